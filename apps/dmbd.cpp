@@ -1,0 +1,216 @@
+// The `dmbd` command line.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "analyze.hpp"
+#include "dmbd/blocks/error.hpp"
+#include "dmbd/blocks/expression.hpp"
+#include "dmbd/blocks/frequency.hpp"
+#include "dmbd/version.hpp"
+
+namespace {
+
+using dmbd::InputError;
+namespace b = dmbd::blocks;
+
+// A number given on the command line: any constant expression (`1e-3`, `2*pi*60`).
+double parse_number(const std::string& text, const std::string& option, const b::ParameterMap& params = {}) {
+  try {
+    return b::Expression::parse(text).evaluate(params);
+  } catch (const b::ExpressionError& e) {
+    throw InputError(option + " '" + text + "': " + e.what());
+  }
+}
+
+int parse_count(const std::string& text, const std::string& option) {
+  const double v = parse_number(text, option);
+  if (v != std::floor(v) || v < 1 || v > 1e7)
+    throw InputError(option + " '" + text + "': expected a whole number of samples from 1 to 10^7");
+  return static_cast<int>(v);
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : s) {
+    if (c == sep) {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur.push_back(c);
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+struct AnalyzeArgs {
+  std::string tf;
+  std::vector<std::string> params;
+  bool json = false;
+  std::string freq, freq_range, step, c2d, ts, prewarp, bode, step_plot;
+};
+
+int run_analyze(const AnalyzeArgs& a) {
+  // Parameters, in order: each may use the ones before it.
+  b::ParameterMap params;
+  for (const std::string& p : a.params) {
+    const auto eq = p.find('=');
+    if (eq == std::string::npos || eq == 0) throw InputError("--param '" + p + "': expected NAME=VALUE");
+    const std::string name = p.substr(0, eq);
+    for (char c : name)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_') || std::isdigit(static_cast<unsigned char>(name[0])))
+        throw InputError("--param '" + p + "': '" + name + "' is not a valid parameter name");
+    if (name == "s" || name == "z") throw InputError("--param '" + p + "': s and z are the transfer-function variables");
+    params[name] = parse_number(p.substr(eq + 1), "--param " + name, params);
+  }
+
+  dmbd::apps::AnalyzeRequest req;
+  double ts = 0.0;
+  if (!a.ts.empty()) {
+    ts = parse_number(a.ts, "--ts", params);
+    if (!(ts > 0.0) || !std::isfinite(ts)) throw InputError("--ts '" + a.ts + "': the sample time must be > 0 s");
+  }
+  const b::Expression expr = [&] {
+    try {
+      return b::Expression::parse(a.tf);
+    } catch (const b::ExpressionError& e) {
+      throw InputError("--tf '" + a.tf + "': " + e.what());
+    }
+  }();
+  const bool discrete = expr.uses('z');
+  if (discrete && expr.uses('s')) throw InputError("--tf '" + a.tf + "': uses both s and z");
+  if (discrete && ts == 0.0) throw InputError("--tf '" + a.tf + "': an expression in z needs --ts SECONDS");
+  if (discrete && !a.c2d.empty()) throw InputError("--c2d: the expression is already discrete (in z)");
+  if (!a.c2d.empty()) {
+    req.c2d = b::parse_c2d_method(a.c2d);
+    if (ts == 0.0) throw InputError("--c2d " + a.c2d + " needs --ts SECONDS");
+    req.c2d_ts = ts;
+  } else if (!a.ts.empty() && !discrete) {
+    throw InputError("--ts is used with --c2d or with an expression in z");
+  }
+  if (!a.prewarp.empty()) {
+    if (!req.c2d || *req.c2d != b::C2dMethod::Tustin) throw InputError("--prewarp is used with --c2d tustin");
+    req.prewarp_hz = parse_number(a.prewarp, "--prewarp", params);
+    if (!(req.prewarp_hz > 0.0) || req.prewarp_hz >= 0.5 / ts)
+      throw InputError("--prewarp '" + a.prewarp + "': expected a frequency between 0 and the Nyquist frequency " +
+                       std::to_string(0.5 / ts) + " Hz");
+  }
+  const b::TransferFunction g = [&] {
+    try {
+      return b::TransferFunction::parse(a.tf, params, discrete ? ts : 0.0);
+    } catch (const b::ExpressionError& e) {
+      throw InputError("--tf '" + a.tf + "': " + e.what());
+    } catch (const InputError& e) {
+      throw InputError("--tf '" + a.tf + "': " + e.what());
+    }
+  }();
+
+  if (!a.freq.empty() && !a.freq_range.empty()) throw InputError("give either --freq or --freq-range, not both");
+  const double nyquist_hz = discrete ? 0.5 / ts : INFINITY;
+  auto check_freq = [&](double f, const std::string& opt, const std::string& text) {
+    if (!(f > 0.0) || !std::isfinite(f)) throw InputError(opt + " '" + text + "': frequencies must be > 0 Hz");
+    if (f > nyquist_hz)
+      throw InputError(opt + " '" + text + "': above the Nyquist frequency " + std::to_string(nyquist_hz) + " Hz");
+  };
+  if (!a.freq.empty()) {
+    for (const std::string& f : split(a.freq, ',')) {
+      if (f.empty()) throw InputError("--freq '" + a.freq + "': expected F1,F2,... in Hz");
+      req.freq_hz.push_back(parse_number(f, "--freq", params));
+      check_freq(req.freq_hz.back(), "--freq", a.freq);
+    }
+  }
+  if (!a.freq_range.empty()) {
+    const auto parts = split(a.freq_range, ':');
+    if (parts.size() != 3) throw InputError("--freq-range '" + a.freq_range + "': expected LO:HI:N (Hz, log-spaced)");
+    const double lo = parse_number(parts[0], "--freq-range", params), hi = parse_number(parts[1], "--freq-range", params);
+    const int n = parse_count(parts[2], "--freq-range");
+    check_freq(lo, "--freq-range", a.freq_range);
+    check_freq(hi, "--freq-range", a.freq_range);
+    if (hi < lo) throw InputError("--freq-range '" + a.freq_range + "': HI must not be below LO");
+    req.freq_hz = b::logspace(lo, hi, n);
+  }
+  if (!a.step.empty()) {
+    const auto parts = split(a.step, ':');
+    if (parts.size() != 2) throw InputError("--step '" + a.step + "': expected T_END:N (seconds, samples)");
+    const double t_end = parse_number(parts[0], "--step", params);
+    if (!(t_end > 0.0) || !std::isfinite(t_end)) throw InputError("--step '" + a.step + "': T_END must be > 0 s");
+    const int n = parse_count(parts[1], "--step");
+    if (n < 2) throw InputError("--step '" + a.step + "': N must be at least 2 samples");
+    req.step = std::make_pair(t_end, n);
+  }
+  req.bode_png = a.bode;
+  req.step_png = a.step_plot;
+  req.title = a.tf;
+
+  nlohmann::json report = dmbd::apps::analyze(g, req);
+  report["expression"] = a.tf;
+  report["parameters"] = params;
+  dmbd::apps::write_plots(g, report, req);
+  if (a.json) {
+    std::cout << report.dump() << "\n";
+  } else {
+    std::cout << dmbd::apps::summary(report);
+    if (!req.bode_png.empty()) std::cout << "wrote " << req.bode_png << "\n";
+    if (!req.step_png.empty()) std::cout << "wrote " << req.step_png << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"draco-mbd: model-based design for legged robots (block diagrams, analysis, code generation, "
+               "simulation of the DRACO biped)",
+               "dmbd"};
+  app.set_version_flag("--version", std::string("dmbd ") + dmbd::kVersion);
+  app.require_subcommand(1);
+
+  AnalyzeArgs an;
+  CLI::App* analyze = app.add_subcommand("analyze", "Poles, zeros, DC gain, margins, bandwidth, Bode, step response and "
+                                                    "discretisation of a transfer function");
+  analyze->add_option("--tf", an.tf, "Rational expression in s (or z with --ts), e.g. '1/((s/wc)^2 + sqrt(2)*s/wc + 1)'")
+      ->required();
+  analyze->add_option("--param", an.params, "NAME=VALUE (VALUE may use earlier parameters: wc=2*pi*fc); repeatable");
+  analyze->add_flag("--json", an.json, "Print one JSON object instead of the summary");
+  analyze->add_option("--freq", an.freq, "Frequencies for the Bode report, F1,F2,... (Hz)");
+  analyze->add_option("--freq-range", an.freq_range, "Log-spaced Bode frequencies LO:HI:N (Hz)");
+  analyze->add_option("--step", an.step, "Step response T_END:N (N samples from 0 to T_END seconds)");
+  analyze->add_option("--c2d", an.c2d, "Discretise: tustin, zoh or backward-euler (needs --ts)");
+  analyze->add_option("--ts", an.ts, "Sample time in seconds (for --c2d, or for an expression in z)");
+  analyze->add_option("--prewarp", an.prewarp, "Tustin pre-warp frequency (Hz)");
+  analyze->add_option("--bode", an.bode, "Write a Bode plot (PNG)");
+  analyze->add_option("--step-plot", an.step_plot, "Write a step-response plot (PNG)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::string msg = e.what();
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    std::cerr << "dmbd: error: " << msg << " (see dmbd --help)\n";
+    return 2;
+  }
+
+  try {
+    if (*analyze) return run_analyze(an);
+  } catch (const InputError& e) {
+    std::string msg = e.what();
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    std::cerr << "dmbd: error: " << msg << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "dmbd: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,19 @@
+#pragma once
+// The LTI block elements the paper uses (eq. frc_ctrl and Fig. 3).
+#include "dmbd/blocks/transfer_function.hpp"
+
+namespace dmbd::blocks {
+
+TransferFunction gain_block(double k);
+// PD  P + D s, or with a derivative filter P + D s / (tau_d s + 1) when tau_d > 0.
+TransferFunction pd(double p, double d, double tau_d = 0.0);
+// PID with filtered derivative  P + I/s + D s / (tau_d s + 1); tau_d > 0 required
+// when d != 0 so that the block is proper.
+TransferFunction pid(double p, double i, double d, double tau_d);
+// Butterworth low-pass of order n with -3.01 dB at cutoff_rad_s and unit DC gain:
+// poles on a circle of radius wc at angles pi/2 + (2k+1) pi/(2n).
+TransferFunction butterworth_lowpass(int order, double cutoff_rad_s);
+// k / s.
+TransferFunction integrator(double k = 1.0);
+
+}  // namespace dmbd::blocks

@@ -1,0 +1,57 @@
+#pragma once
+// Rational expressions in s (continuous) or z (discrete) with named parameters:
+// `1/((s/wc)^2 + sqrt(2)*s/wc + 1)`. Grammar:
+//   expr    := term (('+'|'-') term)*
+//   term    := unary (('*'|'/') unary)*
+//   unary   := ('-'|'+') unary | power
+//   power   := primary ('^' unary)?            right-associative; the exponent must
+//                                              evaluate to an integer when the base
+//                                              contains s or z
+//   primary := number | name | name '(' expr (',' expr)* ')' | '(' expr ')'
+// Numbers use C notation: 12, 1.5, .5, 1e-3, 0x1F, 0x1.8p3, 017 (octal), 0b101,
+// suffixes u/l/f, digit separators '. Names: parameters, the variable `s` or `z`,
+// the constants `pi` and `e`. Functions (constant arguments only): sqrt, exp, log,
+// log10, sin, cos, tan, abs, pow(a,b), min(a,b), max(a,b).
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <string_view>
+
+#include "dmbd/blocks/polynomial.hpp"
+
+namespace dmbd::blocks {
+
+using ParameterMap = std::map<std::string, double, std::less<>>;
+
+// A rational function num(x)/den(x) as produced by evaluating an expression.
+struct Rational {
+  Polynomial num, den;
+};
+
+class Expression {
+ public:
+  struct Node;
+  // Throws ExpressionError (1-based column) on a syntax error.
+  static Expression parse(std::string_view text);
+
+  const std::string& text() const { return text_; }
+  // Parameter names the expression refers to (not functions, constants, s or z).
+  std::set<std::string> parameters() const;
+  // True when the variable (`s` or `z`) appears.
+  bool uses(char variable) const;
+
+  // Evaluate to a number; the expression must not contain s or z. Throws
+  // ExpressionError naming the column of an unknown parameter, a misuse of s/z,
+  // a division by zero or a function domain error.
+  double evaluate(const ParameterMap& params = {}) const;
+  // Evaluate to a rational function of `variable` ('s' or 'z'). The other variable
+  // letter is an error. Powers of non-constant bases need integer exponents.
+  Rational evaluate_rational(const ParameterMap& params, char variable) const;
+
+ private:
+  std::string text_;
+  std::shared_ptr<const Node> root_;
+};
+
+}  // namespace dmbd::blocks

@@ -1,0 +1,61 @@
+#pragma once
+// Frequency responses, margins and bandwidth. Frequencies are in rad/s.
+#include <optional>
+#include <vector>
+
+#include "dmbd/blocks/state_space.hpp"
+
+namespace dmbd::blocks {
+
+struct Bode {
+  std::vector<double> w_rad_s;
+  std::vector<Complex> response;
+  std::vector<double> mag_db;
+  // Unwrapped continuously from w = 0: the low-frequency asymptote K s^m gives
+  // m*90 deg (m = zeros minus poles at s = 0, or at z = 1) minus 180 deg when K < 0;
+  // every other pole and zero adds its phase change from DC, computed exactly
+  // per factor (no grid-dependent unwrapping). The value at each frequency is the
+  // branch of arg(response) nearest that factor phase.
+  std::vector<double> phase_deg;
+};
+
+// log10-spaced points from lo to hi inclusive (n >= 2), or {lo} when n == 1.
+std::vector<double> logspace(double lo, double hi, int n);
+// A grid covering two decades beyond the slowest and fastest pole/zero (up to Nyquist
+// for a discrete system).
+std::vector<double> default_frequency_grid(const TransferFunction& sys, int n = 400);
+
+// Direct evaluation num(jw)/den(jw) (or at z = e^{jw ts}).
+std::vector<Complex> frequency_response(const TransferFunction& sys, const std::vector<double>& w_rad_s);
+// All channels at every frequency via one Hessenberg reduction of A and an O(n^2)
+// solve per frequency: result[k] is outputs x inputs at w[k].
+std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys, const std::vector<double>& w_rad_s);
+Bode bode(const TransferFunction& sys, const std::vector<double>& w_rad_s);
+
+// One crossing of a loop transfer function.
+struct Crossing {
+  double w_rad_s;
+  double margin;  // gain margin in dB (at a phase crossover) or phase margin in degrees
+};
+
+struct Margins {
+  // The usual convention (as MATLAB's margin): among all phase crossovers (L real
+  // negative) the gain margin -20 log10 |L| of smallest magnitude, and among all gain
+  // crossovers (|L| = 1) the phase margin 180 + angle(L), wrapped to (-180, 180], of
+  // smallest magnitude. Empty where there is no crossover.
+  std::optional<double> gain_margin_db, phase_crossover_rad_s;
+  std::optional<double> phase_margin_deg, gain_crossover_rad_s;
+  std::vector<Crossing> phase_crossovers, gain_crossovers;  // every crossing, by frequency
+};
+
+// Crossovers found exactly as roots of polynomials in w (continuous) or in the
+// bilinear variable v = tan(w ts / 2) (discrete), then refined by Newton steps on
+// the response itself.
+Margins margins(const TransferFunction& loop);
+
+// First frequency at which |G| falls drop_db below |G(0)| (default -3 dB, MATLAB's
+// and python-control's convention). Empty when G(0) is 0 or infinite, or |G| never
+// drops that far.
+std::optional<double> bandwidth(const TransferFunction& sys, double drop_db = -3.0);
+
+}  // namespace dmbd::blocks

@@ -1,0 +1,78 @@
+#pragma once
+// MIMO state-space models  x' = A x + B u, y = C x + D u  (continuous, ts == 0) or
+// x[k+1] = A x[k] + B u[k], y[k] = C x[k] + D u[k]  (discrete, ts > 0).
+#include <Eigen/Core>
+#include <vector>
+
+#include "dmbd/blocks/transfer_function.hpp"
+
+namespace dmbd::blocks {
+
+using Matrix = Eigen::MatrixXd;
+using Vector = Eigen::VectorXd;
+
+class StateSpace {
+ public:
+  StateSpace() = default;
+  // Throws InputError on inconsistent sizes, non-finite entries or a bad sample time.
+  StateSpace(Matrix a, Matrix b, Matrix c, Matrix d, double ts = 0.0);
+  // A static gain (no states).
+  static StateSpace gain(const Matrix& d, double ts = 0.0);
+  // Controllable canonical realisation of a proper TF, then balanced by a diagonal
+  // similarity so that badly scaled coefficients do not hurt later arithmetic.
+  // InputError if improper.
+  static StateSpace from_tf(const TransferFunction& tf);
+
+  const Matrix& a() const { return a_; }
+  const Matrix& b() const { return b_; }
+  const Matrix& c() const { return c_; }
+  const Matrix& d() const { return d_; }
+  double ts() const { return ts_; }
+  bool is_discrete() const { return ts_ > 0.0; }
+  int num_states() const { return static_cast<int>(a_.rows()); }
+  int num_inputs() const { return static_cast<int>(b_.cols()); }
+  int num_outputs() const { return static_cast<int>(c_.rows()); }
+
+  // Transfer function from input `in` to output `out`:
+  // D + C (sI-A)^-1 B = [det(sI-A+B C) + (D-1) det(sI-A)] / det(sI-A) for one
+  // channel, both determinants from eigenvalues.
+  TransferFunction to_tf(int out = 0, int in = 0) const;
+  std::vector<Complex> poles() const;
+  bool is_stable() const;
+  // Steady-state gain D - C A^-1 B (continuous) or D + C (I-A)^-1 B (discrete);
+  // InputError if singular (a pole at DC).
+  Matrix dc_gain() const;
+  // C (xI - A)^-1 B + D at one complex point (s or z).
+  Eigen::MatrixXcd evaluate(Complex x) const;
+
+  // Remove uncontrollable then unobservable states (orthogonal staircase, rank decided
+  // by tol relative to the largest singular value).
+  StateSpace minimal(double tol = 1e-9) const;
+  // Same system, similarity transform T: A' = T^-1 A T, B' = T^-1 B, C' = C T.
+  StateSpace transformed(const Matrix& t) const;
+  // Diagonal power-of-two similarity that equalises row and column norms of A
+  // (Parlett–Reinsch, as LAPACK's dgebal; Eigen does not expose one).
+  StateSpace balanced() const;
+  // Sub-system from some inputs to some outputs.
+  StateSpace select(const std::vector<int>& outputs, const std::vector<int>& inputs) const;
+
+ private:
+  Matrix a_, b_, c_, d_;
+  double ts_ = 0.0;
+};
+
+// second after first: u -> first -> second -> y.
+StateSpace series(const StateSpace& first, const StateSpace& second);
+// y = a(u) + b(u).
+StateSpace parallel(const StateSpace& a, const StateSpace& b);
+// u = r + sign * back(y), y = forward(u); sign = -1 is negative feedback. Handles
+// non-zero D of both; InputError for an algebraic loop (I - sign D_f D_b singular).
+StateSpace feedback(const StateSpace& forward, const StateSpace& back, int sign = -1);
+// Block-diagonal stacking: inputs and outputs concatenated.
+StateSpace append(const StateSpace& a, const StateSpace& b);
+
+// Balancing scales for a square matrix (powers of two): returns d with
+// D^-1 M D balanced, D = diag(d).
+Vector balancing_scales(const Matrix& m);
+
+}  // namespace dmbd::blocks

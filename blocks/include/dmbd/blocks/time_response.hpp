@@ -1,0 +1,47 @@
+#pragma once
+// Time responses of state-space models.
+#include <optional>
+#include <vector>
+
+#include "dmbd/blocks/state_space.hpp"
+
+namespace dmbd::blocks {
+
+struct TimeResponse {
+  std::vector<double> t;  // s
+  Matrix y;               // samples x outputs
+};
+
+// Step (unit, on input `in`) from t = 0 to t_end at n equally spaced samples. A
+// continuous system is discretised exactly (ZOH is exact for the constant input);
+// a discrete one is sampled at its own k ts up to t_end (n is then ignored).
+TimeResponse step(const StateSpace& sys, double t_end, int n, int in = 0);
+// Unit impulse on input `in`: continuous y(t) = C e^{At} B (the D delta term is left
+// out); discrete: the unit pulse response.
+TimeResponse impulse(const StateSpace& sys, double t_end, int n, int in = 0);
+// Response to u (samples x inputs) held constant between samples spaced dt apart (exact
+// for piecewise-constant input), from initial state x0 (zero when empty). A discrete
+// system needs dt == its ts.
+TimeResponse lsim(const StateSpace& sys, const Matrix& u, double dt, const Vector& x0 = Vector());
+
+struct StepInfo {
+  // Final value: the DC gain for a stable system, empty otherwise (and then all
+  // figures below are empty).
+  std::optional<double> final_value;
+  std::optional<double> rise_time_s;      // 10 % to 90 % of the final value
+  std::optional<double> settling_time_s;  // last exit from the +-2 % band
+  std::optional<double> overshoot_pct;    // (peak - final) / |final| * 100, >= 0
+  std::optional<double> peak, peak_time_s;
+};
+
+// Step information of channel (out, in) from its sampled step response. For a
+// continuous system every crossing time and the peak are refined between samples on
+// the exact response (matrix exponential), so the figures do not depend on the grid.
+StepInfo step_info(const StateSpace& sys, const TimeResponse& step_response, int out = 0, int in = 0,
+                   double settling_fraction = 0.02, double rise_low = 0.1, double rise_high = 0.9);
+
+// A reasonable t_end for a step response: 6 slowest time constants, or 10 periods
+// of the slowest oscillation, clamped to [1e-6, 1e6] s.
+double default_step_horizon(const StateSpace& sys);
+
+}  // namespace dmbd::blocks

@@ -1,0 +1,171 @@
+#include "dmbd/blocks/discretize.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "dmbd/blocks/error.hpp"
+
+namespace dmbd::blocks {
+
+namespace {
+
+// Tustin's a: s = (1/a)(z-1)/(z+1); a = ts/2, or tan(w ts/2)/w when pre-warped at w.
+double tustin_alpha(double ts, double prewarp_rad_s) {
+  if (prewarp_rad_s < 0.0 || !std::isfinite(prewarp_rad_s)) throw InputError("pre-warp frequency must be >= 0");
+  if (prewarp_rad_s == 0.0) return ts / 2.0;
+  if (prewarp_rad_s * ts >= M_PI)
+    throw InputError("pre-warp frequency " + std::to_string(prewarp_rad_s / (2 * M_PI)) +
+                     " Hz is at or above the Nyquist frequency " + std::to_string(0.5 / ts) + " Hz");
+  return std::tan(prewarp_rad_s * ts / 2.0) / prewarp_rad_s;
+}
+
+void check_ts(double ts) {
+  if (!(ts > 0.0) || !std::isfinite(ts)) throw InputError("sample time must be a positive number of seconds");
+}
+
+Eigen::FullPivLU<Matrix> invertible(const Matrix& m, const char* why) {
+  Eigen::FullPivLU<Matrix> lu(m);
+  lu.setThreshold(1e-13);
+  if (!lu.isInvertible()) throw InputError(why);
+  return lu;
+}
+
+// sum_k p_k * f^k * g^(n-k), used for the rational substitutions s = f/g.
+Polynomial substitute(const Polynomial& p, const Polynomial& f, const Polynomial& g, int n) {
+  Polynomial out;
+  for (int k = 0; k <= p.degree(); ++k) out = out + p[k] * (f.pow(k) * g.pow(n - k));
+  return out;
+}
+
+}  // namespace
+
+C2dMethod parse_c2d_method(const std::string& name) {
+  if (name == "zoh") return C2dMethod::Zoh;
+  if (name == "tustin" || name == "bilinear") return C2dMethod::Tustin;
+  if (name == "backward-euler" || name == "backward_euler" || name == "euler") return C2dMethod::BackwardEuler;
+  throw InputError("unknown discretisation method '" + name + "': expected zoh, tustin or backward-euler");
+}
+
+const char* to_string(C2dMethod m) {
+  switch (m) {
+    case C2dMethod::Zoh: return "zoh";
+    case C2dMethod::Tustin: return "tustin";
+    case C2dMethod::BackwardEuler: return "backward-euler";
+  }
+  return "?";
+}
+
+StateSpace c2d(const StateSpace& sys, double ts, C2dMethod method, double prewarp_rad_s) {
+  check_ts(ts);
+  if (sys.is_discrete()) throw InputError("c2d: the system is already discrete");
+  if (prewarp_rad_s != 0.0 && method != C2dMethod::Tustin) throw InputError("pre-warping applies to Tustin only");
+  const int n = sys.num_states(), m = sys.num_inputs();
+  const Matrix I = Matrix::Identity(n, n);
+  switch (method) {
+    case C2dMethod::Zoh: {
+      Matrix big = Matrix::Zero(n + m, n + m);
+      big.topLeftCorner(n, n) = sys.a() * ts;
+      big.topRightCorner(n, m) = sys.b() * ts;
+      const Matrix e = big.exp();
+      return StateSpace(e.topLeftCorner(n, n), e.topRightCorner(n, m), sys.c(), sys.d(), ts);
+    }
+    case C2dMethod::Tustin: {
+      const double a = tustin_alpha(ts, prewarp_rad_s);
+      const auto lu = invertible(I - a * sys.a(), "Tustin: a pole at s = 1/a maps to z = infinity");
+      const Matrix mb = lu.solve(sys.b());
+      const Matrix cm = lu.inverse();  // M^-1
+      return StateSpace(lu.solve(I + a * sys.a()), 2.0 * a * mb, sys.c() * cm, sys.d() + a * sys.c() * mb, ts);
+    }
+    case C2dMethod::BackwardEuler: {
+      const auto lu = invertible(I - ts * sys.a(), "backward Euler: a pole at s = 1/ts maps to z = infinity");
+      const Matrix ad = lu.inverse();
+      return StateSpace(ad, ts * ad * sys.b(), sys.c() * ad, sys.d() + ts * sys.c() * ad * sys.b(), ts);
+    }
+  }
+  throw InputError("unknown discretisation method");
+}
+
+TransferFunction c2d(const TransferFunction& sys, double ts, C2dMethod method, double prewarp_rad_s) {
+  check_ts(ts);
+  if (sys.is_discrete()) throw InputError("c2d: the system is already discrete");
+  if (!sys.is_proper()) throw InputError("c2d: an improper transfer function cannot be discretised");
+  if (prewarp_rad_s != 0.0 && method != C2dMethod::Tustin) throw InputError("pre-warping applies to Tustin only");
+  const int n = sys.order();
+  switch (method) {
+    case C2dMethod::Zoh:
+      return c2d(StateSpace::from_tf(sys), ts, method).to_tf();
+    case C2dMethod::Tustin: {
+      // s = (z-1) / (a (z+1)):  multiply through by a^n (z+1)^n.
+      const double a = tustin_alpha(ts, prewarp_rad_s);
+      const Polynomial f({-1.0, 1.0}), g({a, a});
+      return TransferFunction(substitute(sys.num(), f, g, n), substitute(sys.den(), f, g, n), ts);
+    }
+    case C2dMethod::BackwardEuler: {
+      // s = (z-1) / (ts z):  multiply through by (ts z)^n.
+      const Polynomial f({-1.0, 1.0}), g({0.0, ts});
+      return TransferFunction(substitute(sys.num(), f, g, n), substitute(sys.den(), f, g, n), ts);
+    }
+  }
+  throw InputError("unknown discretisation method");
+}
+
+StateSpace d2c(const StateSpace& sys, C2dMethod method, double prewarp_rad_s) {
+  if (!sys.is_discrete()) throw InputError("d2c: the system is already continuous");
+  const double ts = sys.ts();
+  const int n = sys.num_states(), m = sys.num_inputs();
+  const Matrix I = Matrix::Identity(n, n);
+  switch (method) {
+    case C2dMethod::Zoh: {
+      for (const Complex& p : sys.poles())
+        if (std::abs(p.imag()) <= 1e-12 * std::max(1.0, std::abs(p)) && p.real() <= 0.0)
+          throw InputError("d2c zoh: a pole on the negative real axis or at z = 0 has no continuous equivalent");
+      Matrix big = Matrix::Zero(n + m, n + m);
+      big.topLeftCorner(n, n) = sys.a();
+      big.topRightCorner(n, m) = sys.b();
+      big.bottomRightCorner(m, m) = Matrix::Identity(m, m);
+      const Matrix l = big.log() / ts;
+      return StateSpace(l.topLeftCorner(n, n), l.topRightCorner(n, m), sys.c(), sys.d(), 0.0);
+    }
+    case C2dMethod::Tustin: {
+      const double a = tustin_alpha(ts, prewarp_rad_s);
+      const auto lu = invertible(sys.a() + I, "d2c tustin: a pole at z = -1 has no continuous equivalent");
+      // A = (1/a)(Ad - I)(Ad + I)^-1; Ad and (Ad+I)^-1 commute.
+      const Matrix ac = lu.solve(sys.a() - I) / a;
+      const Matrix mm = I - a * ac;
+      const Matrix b = mm * sys.b() / (2.0 * a);
+      return StateSpace(ac, b, sys.c() * mm, sys.d() - a * sys.c() * b, 0.0);
+    }
+    case C2dMethod::BackwardEuler: {
+      const auto lu = invertible(sys.a(), "d2c backward-euler: a pole at z = 0 has no continuous equivalent");
+      const Matrix mm = lu.inverse();  // M = I - ts A
+      const Matrix b = mm * sys.b() / ts;
+      return StateSpace((I - mm) / ts, b, sys.c() * mm, sys.d() - ts * sys.c() * b, 0.0);
+    }
+  }
+  throw InputError("unknown discretisation method");
+}
+
+TransferFunction d2c(const TransferFunction& sys, C2dMethod method, double prewarp_rad_s) {
+  if (!sys.is_discrete()) throw InputError("d2c: the system is already continuous");
+  if (!sys.is_proper()) throw InputError("d2c: an improper (non-causal) transfer function");
+  const int n = sys.order();
+  switch (method) {
+    case C2dMethod::Zoh:
+      return d2c(StateSpace::from_tf(sys), method).to_tf();
+    case C2dMethod::Tustin: {
+      // z = (1 + a s) / (1 - a s): multiply through by (1 - a s)^n.
+      const double a = tustin_alpha(sys.ts(), prewarp_rad_s);
+      const Polynomial f({1.0, a}), g({1.0, -a});
+      return TransferFunction(substitute(sys.num(), f, g, n), substitute(sys.den(), f, g, n), 0.0);
+    }
+    case C2dMethod::BackwardEuler: {
+      // z = 1 / (1 - ts s): multiply through by (1 - ts s)^n.
+      const Polynomial f({1.0}), g({1.0, -sys.ts()});
+      return TransferFunction(substitute(sys.num(), f, g, n), substitute(sys.den(), f, g, n), 0.0);
+    }
+  }
+  throw InputError("unknown discretisation method");
+}
+
+}  // namespace dmbd::blocks

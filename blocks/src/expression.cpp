@@ -1,0 +1,411 @@
+#include "dmbd/blocks/expression.hpp"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <vector>
+
+#include "dmbd/blocks/error.hpp"
+
+namespace dmbd::blocks {
+
+struct Expression::Node {
+  enum class Kind { Number, Name, Negate, Add, Sub, Mul, Div, Pow, Call } kind;
+  int column = 0;  // 1-based position of the token that produced the node
+  double value = 0.0;
+  std::string name;
+  std::vector<std::shared_ptr<const Node>> args;
+};
+
+namespace {
+
+using Node = Expression::Node;
+using NodePtr = std::shared_ptr<const Node>;
+
+std::string quote(std::string_view s) { return "'" + std::string(s) + "'"; }
+
+class Parser {
+ public:
+  explicit Parser(std::string_view text) : s_(text) {}
+
+  NodePtr parse() {
+    skip_space();
+    if (pos_ >= s_.size()) fail("empty expression: expected a number, a name or '('", 1);
+    NodePtr n = expr();
+    skip_space();
+    if (pos_ < s_.size()) {
+      if (s_[pos_] == ')') fail("unmatched ')'", col());
+      fail("unexpected " + quote(s_.substr(pos_, 1)) + ": expected an operator (+ - * / ^) or the end", col());
+    }
+    return n;
+  }
+
+ private:
+  [[noreturn]] static void fail(const std::string& msg, int column) { throw ExpressionError(msg, column); }
+  int col() const { return static_cast<int>(pos_) + 1; }
+  void skip_space() {
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+  }
+  bool accept(char c) {
+    skip_space();
+    if (pos_ < s_.size() && s_[pos_] == c) {
+      ++pos_;
+      return true;
+    }
+    return false;
+  }
+  static NodePtr make(Node::Kind k, int column, std::vector<NodePtr> args = {}) {
+    auto n = std::make_shared<Node>();
+    n->kind = k;
+    n->column = column;
+    n->args = std::move(args);
+    return n;
+  }
+
+  NodePtr expr() {
+    NodePtr lhs = term();
+    for (;;) {
+      skip_space();
+      const int c = col();
+      if (accept('+')) {
+        lhs = make(Node::Kind::Add, c, {lhs, term_after(c, '+')});
+      } else if (accept('-')) {
+        lhs = make(Node::Kind::Sub, c, {lhs, term_after(c, '-')});
+      } else {
+        return lhs;
+      }
+    }
+  }
+  NodePtr term_after(int, char) { return term(); }
+
+  NodePtr term() {
+    NodePtr lhs = unary();
+    for (;;) {
+      skip_space();
+      const int c = col();
+      if (accept('*')) {
+        lhs = make(Node::Kind::Mul, c, {lhs, unary()});
+      } else if (accept('/')) {
+        lhs = make(Node::Kind::Div, c, {lhs, unary()});
+      } else {
+        return lhs;
+      }
+    }
+  }
+
+  NodePtr unary() {
+    skip_space();
+    const int c = col();
+    if (accept('-')) return make(Node::Kind::Negate, c, {unary()});
+    if (accept('+')) return unary();
+    return power();
+  }
+
+  NodePtr power() {
+    NodePtr base = primary();
+    skip_space();
+    const int c = col();
+    if (accept('^')) return make(Node::Kind::Pow, c, {base, unary()});
+    return base;
+  }
+
+  NodePtr primary() {
+    skip_space();
+    const int c = col();
+    if (pos_ >= s_.size()) fail("unexpected end of expression: expected a number, a name or '('", c);
+    const char ch = s_[pos_];
+    if (ch == '(') {
+      ++pos_;
+      NodePtr inner = expr();
+      if (!accept(')')) {
+        skip_space();
+        if (pos_ >= s_.size()) fail("unexpected end of expression: expected ')' to close the '(' at column " +
+                                        std::to_string(c), col());
+        fail("expected ')' to close the '(' at column " + std::to_string(c) + ", found " +
+                 quote(s_.substr(pos_, 1)), col());
+      }
+      return inner;
+    }
+    if (std::isdigit(static_cast<unsigned char>(ch)) ||
+        (ch == '.' && pos_ + 1 < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_ + 1])))) {
+      auto n = std::make_shared<Node>();
+      n->kind = Node::Kind::Number;
+      n->column = c;
+      n->value = number();
+      return n;
+    }
+    if (std::isalpha(static_cast<unsigned char>(ch)) || ch == '_') {
+      const size_t start = pos_;
+      while (pos_ < s_.size() && (std::isalnum(static_cast<unsigned char>(s_[pos_])) || s_[pos_] == '_')) ++pos_;
+      std::string name(s_.substr(start, pos_ - start));
+      skip_space();
+      if (pos_ < s_.size() && s_[pos_] == '(') {
+        ++pos_;
+        std::vector<NodePtr> args{expr()};
+        while (accept(',')) args.push_back(expr());
+        if (!accept(')')) {
+          skip_space();
+          fail("expected ')' or ',' in the call of " + quote(name) + " at column " + std::to_string(c), col());
+        }
+        auto n = make(Node::Kind::Call, c, std::move(args));
+        std::const_pointer_cast<Node>(n)->name = name;
+        return n;
+      }
+      auto n = make(Node::Kind::Name, c);
+      std::const_pointer_cast<Node>(n)->name = name;
+      return n;
+    }
+    if (ch == ')') fail("unexpected ')': expected a number, a name or '('", c);
+    fail("unexpected " + quote(s_.substr(pos_, 1)) + ": expected a number, a name or '('", c);
+  }
+
+  // A number in C notation. Consumes the longest run of characters that can belong
+  // to a numeric literal, then interprets it strictly.
+  double number() {
+    const int c = col();
+    const size_t start = pos_;
+    while (pos_ < s_.size()) {
+      const char ch = s_[pos_];
+      if (std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '\'') {
+        ++pos_;
+      } else if ((ch == '+' || ch == '-') && pos_ > start) {
+        const char prev = static_cast<char>(std::tolower(static_cast<unsigned char>(s_[pos_ - 1])));
+        const bool hex = s_.size() > start + 1 && s_[start] == '0' && (s_[start + 1] == 'x' || s_[start + 1] == 'X');
+        if ((!hex && prev == 'e') || (hex && prev == 'p')) {
+          ++pos_;
+        } else {
+          break;
+        }
+      } else {
+        break;
+      }
+    }
+    std::string tok;
+    for (size_t i = start; i < pos_; ++i)
+      if (s_[i] != '\'') tok.push_back(s_[i]);
+    const std::string raw(s_.substr(start, pos_ - start));
+    auto bad = [&](const std::string& why) -> double { fail("malformed number " + quote(raw) + ": " + why, c); };
+    // Strip integer/float suffixes (u, l, ll, f in any case and order).
+    std::string body = tok;
+    const bool is_hex = body.size() > 1 && body[0] == '0' && (body[1] == 'x' || body[1] == 'X');
+    while (!body.empty()) {
+      const char last = static_cast<char>(std::tolower(static_cast<unsigned char>(body.back())));
+      if (last == 'u' || last == 'l' || (!is_hex && last == 'f')) {
+        body.pop_back();
+      } else {
+        break;
+      }
+    }
+    if (body.empty()) return bad("no digits");
+    const bool is_bin = body.size() > 1 && body[0] == '0' && (body[1] == 'b' || body[1] == 'B');
+    errno = 0;
+    char* end = nullptr;
+    double v = 0.0;
+    if (is_bin) {
+      if (body.size() == 2) return bad("no binary digits");
+      v = static_cast<double>(std::strtoull(body.c_str() + 2, &end, 2));
+    } else if (is_hex) {
+      if (body.find_first_of(".pP") != std::string::npos) {
+        if (body.find_first_of("pP") == std::string::npos) return bad("a hexadecimal floating constant needs a 'p' exponent");
+        v = std::strtod(body.c_str(), &end);
+      } else {
+        if (body.size() == 2) return bad("no hexadecimal digits");
+        v = static_cast<double>(std::strtoull(body.c_str() + 2, &end, 16));
+      }
+    } else if (body.size() > 1 && body[0] == '0' && body.find_first_of(".eE") == std::string::npos) {
+      v = static_cast<double>(std::strtoull(body.c_str() + 1, &end, 8));  // octal, as in C
+    } else {
+      for (char ch : body)
+        if (!(std::isdigit(static_cast<unsigned char>(ch)) || ch == '.' || ch == 'e' || ch == 'E' || ch == '+' ||
+              ch == '-'))
+          return bad("unexpected " + quote(std::string(1, ch)) + " (implicit multiplication is not allowed: write 2*s)");
+      v = std::strtod(body.c_str(), &end);
+    }
+    if (end == nullptr || *end != '\0') return bad("unexpected " + quote(std::string(1, end ? *end : '?')));
+    if (errno == ERANGE || !std::isfinite(v)) return bad("out of range");
+    return v;
+  }
+
+  std::string_view s_;
+  size_t pos_ = 0;
+};
+
+bool is_constant(const Rational& r) { return r.num.degree() <= 0 && r.den.degree() == 0; }
+double constant_value(const Rational& r) { return r.num[0] / r.den[0]; }
+Rational constant(double v) { return {Polynomial::constant(v), Polynomial::constant(1.0)}; }
+
+Rational add(const Rational& a, const Rational& b, double sign) {
+  if (is_constant(a) && is_constant(b)) return constant(constant_value(a) + sign * constant_value(b));
+  if (a.den == b.den) return {a.num + sign * b.num, a.den};
+  return {a.num * b.den + sign * (b.num * a.den), a.den * b.den};
+}
+
+Rational mul(const Rational& a, const Rational& b) {
+  if (is_constant(a) && is_constant(b)) return constant(constant_value(a) * constant_value(b));
+  return {a.num * b.num, a.den * b.den};
+}
+
+struct Evaluator {
+  const ParameterMap& params;
+  char variable;  // 's', 'z', or 0 for a plain number
+
+  [[noreturn]] static void fail(const std::string& msg, int column) { throw ExpressionError(msg, column); }
+
+  static bool is_variable_name(const std::string& n) { return n == "s" || n == "z"; }
+
+  Rational eval(const Node& n) const {
+    switch (n.kind) {
+      case Node::Kind::Number:
+        return constant(n.value);
+      case Node::Kind::Name: {
+        if (is_variable_name(n.name)) {
+          if (variable == 0)
+            fail(quote(n.name) + " appears where a number is expected", n.column);
+          if (n.name[0] != variable)
+            fail(quote(n.name) + " in a " + (variable == 's' ? "continuous-time expression (use s, or give a sample time for z)"
+                                                              : "discrete-time expression (use z)"),
+                 n.column);
+          return {Polynomial({0.0, 1.0}), Polynomial::constant(1.0)};
+        }
+        if (auto it = params.find(n.name); it != params.end()) {
+          if (!std::isfinite(it->second)) fail("parameter " + quote(n.name) + " is not finite", n.column);
+          return constant(it->second);
+        }
+        if (n.name == "pi") return constant(M_PI);
+        if (n.name == "e") return constant(M_E);
+        fail("unknown parameter " + quote(n.name) + " (give it a value, e.g. --param " + n.name + "=VALUE)", n.column);
+      }
+      case Node::Kind::Negate: {
+        Rational r = eval(*n.args[0]);
+        return {-r.num, r.den};
+      }
+      case Node::Kind::Add:
+        return add(eval(*n.args[0]), eval(*n.args[1]), 1.0);
+      case Node::Kind::Sub:
+        return add(eval(*n.args[0]), eval(*n.args[1]), -1.0);
+      case Node::Kind::Mul:
+        return mul(eval(*n.args[0]), eval(*n.args[1]));
+      case Node::Kind::Div: {
+        const Rational a = eval(*n.args[0]);
+        const Rational b = eval(*n.args[1]);
+        if (b.num.is_zero()) fail("division by zero", n.column);
+        if (is_constant(a) && is_constant(b)) return constant(constant_value(a) / constant_value(b));
+        return {a.num * b.den, a.den * b.num};
+      }
+      case Node::Kind::Pow: {
+        const Rational base = eval(*n.args[0]);
+        const Rational ex = eval(*n.args[1]);
+        if (!is_constant(ex)) fail("the exponent must not contain " + std::string(1, variable), n.args[1]->column);
+        const double e = constant_value(ex);
+        if (is_constant(base)) {
+          const double v = std::pow(constant_value(base), e);
+          if (!std::isfinite(v)) fail("power is not a finite real number", n.column);
+          return constant(v);
+        }
+        if (e != std::round(e) || std::abs(e) > 64)
+          fail("a power of an expression in " + std::string(1, variable) + " needs an integer exponent (|n| <= 64)",
+               n.args[1]->column);
+        const int k = static_cast<int>(e);
+        if (k >= 0) return {base.num.pow(k), base.den.pow(k)};
+        if (base.num.is_zero()) fail("division by zero", n.column);
+        return {base.den.pow(-k), base.num.pow(-k)};
+      }
+      case Node::Kind::Call:
+        return call(n);
+    }
+    fail("internal: unknown node", n.column);
+  }
+
+  Rational call(const Node& n) const {
+    std::vector<double> a;
+    for (const auto& arg : n.args) {
+      const Rational r = eval(*arg);
+      if (!is_constant(r))
+        fail(quote(n.name) + " takes numbers only, not an expression in " + std::string(1, variable), arg->column);
+      a.push_back(constant_value(r));
+    }
+    auto need = [&](size_t k) {
+      if (a.size() != k)
+        fail(quote(n.name) + " takes " + std::to_string(k) + " argument" + (k == 1 ? "" : "s") + ", got " +
+                 std::to_string(a.size()),
+             n.column);
+    };
+    static const std::map<std::string, double (*)(double)> unary = {
+        {"sqrt", [](double x) { return std::sqrt(x); }},   {"exp", [](double x) { return std::exp(x); }},
+        {"log", [](double x) { return std::log(x); }},     {"log10", [](double x) { return std::log10(x); }},
+        {"sin", [](double x) { return std::sin(x); }},     {"cos", [](double x) { return std::cos(x); }},
+        {"tan", [](double x) { return std::tan(x); }},     {"abs", [](double x) { return std::abs(x); }},
+    };
+    double v = 0.0;
+    if (auto it = unary.find(n.name); it != unary.end()) {
+      need(1);
+      v = it->second(a[0]);
+    } else if (n.name == "pow") {
+      need(2);
+      v = std::pow(a[0], a[1]);
+    } else if (n.name == "min") {
+      need(2);
+      v = std::min(a[0], a[1]);
+    } else if (n.name == "max") {
+      need(2);
+      v = std::max(a[0], a[1]);
+    } else {
+      fail("unknown function " + quote(n.name) + " (known: sqrt exp log log10 sin cos tan abs pow min max)",
+           n.column);
+    }
+    if (!std::isfinite(v)) fail(quote(n.name) + " of its argument is not a finite real number", n.column);
+    return constant(v);
+  }
+};
+
+void collect(const Node& n, std::set<std::string>& out, bool& s, bool& z) {
+  if (n.kind == Node::Kind::Name) {
+    if (n.name == "s") {
+      s = true;
+    } else if (n.name == "z") {
+      z = true;
+    } else if (n.name != "pi" && n.name != "e") {
+      out.insert(n.name);
+    }
+  }
+  for (const auto& a : n.args) collect(*a, out, s, z);
+}
+
+}  // namespace
+
+Expression Expression::parse(std::string_view text) {
+  Expression e;
+  e.text_ = std::string(text);
+  e.root_ = Parser(e.text_).parse();
+  return e;
+}
+
+std::set<std::string> Expression::parameters() const {
+  std::set<std::string> out;
+  bool s = false, z = false;
+  if (root_) collect(*root_, out, s, z);
+  return out;
+}
+
+bool Expression::uses(char variable) const {
+  std::set<std::string> out;
+  bool s = false, z = false;
+  if (root_) collect(*root_, out, s, z);
+  return variable == 's' ? s : variable == 'z' ? z : false;
+}
+
+double Expression::evaluate(const ParameterMap& params) const {
+  const Rational r = Evaluator{params, 0}.eval(*root_);
+  return r.num[0] / r.den[0];
+}
+
+Rational Expression::evaluate_rational(const ParameterMap& params, char variable) const {
+  if (variable != 's' && variable != 'z') throw InputError("the variable of a rational expression is s or z");
+  Rational r = Evaluator{params, variable}.eval(*root_);
+  if (r.den.is_zero()) throw ExpressionError("the denominator is zero", 1);
+  return r;
+}
+
+}  // namespace dmbd::blocks

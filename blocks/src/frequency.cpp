@@ -1,0 +1,338 @@
+#include "dmbd/blocks/frequency.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "dmbd/blocks/error.hpp"
+
+namespace dmbd::blocks {
+
+namespace {
+
+constexpr double kDeg = 180.0 / M_PI;
+
+double wrap_pi(double a) {  // into (-pi, pi]
+  a = std::remainder(a, 2.0 * M_PI);
+  return a <= -M_PI ? a + 2.0 * M_PI : a;
+}
+
+double wrap_2pi(double a) {  // into [0, 2 pi)
+  a = std::fmod(a, 2.0 * M_PI);
+  return a < 0.0 ? a + 2.0 * M_PI : a;
+}
+
+// Whether x0 is a root of p, judged against the rounding error of evaluating p there.
+bool is_root(const Polynomial& p, double x0) {
+  double scale = 0.0, xk = 1.0;
+  for (double c : p.coeffs()) {
+    scale += std::abs(c) * xk;
+    xk *= std::abs(x0);
+  }
+  return std::abs(p(x0)) <= 1e-12 * scale;
+}
+
+// Remove every root at x0 from p; returns the multiplicity.
+int deflate(Polynomial& p, double x0) {
+  int m = 0;
+  while (p.degree() >= 1 && is_root(p, x0)) {
+    p = Polynomial::divide(p, Polynomial({-x0, 1.0})).first;
+    ++m;
+  }
+  return m;
+}
+
+// The factor-wise phase model of a TF (see Bode::phase_deg).
+struct PhaseModel {
+  bool discrete = false;
+  double ts = 0.0;
+  int m = 0;               // zeros minus poles at s = 0 (or z = 1)
+  double low_rad = 0.0;    // phase as w -> 0
+  std::vector<Complex> zeros, poles;  // the others
+
+  explicit PhaseModel(const TransferFunction& g) : discrete(g.is_discrete()), ts(g.ts()) {
+    Polynomial n = g.num(), d = g.den();
+    const double x0 = discrete ? 1.0 : 0.0;
+    const int mn = deflate(n, x0), md = deflate(d, x0);
+    m = mn - md;
+    zeros = n.roots();
+    poles = d.roots();
+    const double k0 = n(x0) / d(x0);
+    low_rad = m * M_PI / 2.0 + (k0 < 0.0 ? -M_PI : 0.0);
+  }
+
+  // Exact phase change of one root's factor from DC to w.
+  double factor(const Complex& r, double w) const {
+    if (!discrete) return wrap_pi(std::arg(Complex(1.0, 0.0) - Complex(0.0, w) / r));
+    const double th = w * ts;
+    const double raw = std::arg(std::polar(1.0, th) - r) - std::arg(Complex(1.0, 0.0) - r);
+    return std::abs(r) < 1.0 ? wrap_2pi(raw) : wrap_pi(raw);
+  }
+
+  double phase_rad(double w) const {
+    double p = low_rad + (discrete ? m * w * ts / 2.0 : 0.0);
+    for (const Complex& z : zeros) p += factor(z, w);
+    for (const Complex& q : poles) p -= factor(q, w);
+    return p;
+  }
+};
+
+Complex point(const TransferFunction& g, double w) {
+  return g.is_discrete() ? std::polar(1.0, w * g.ts()) : Complex(0.0, w);
+}
+
+// p(s) p(-s) style products evaluated on the imaginary axis: for E(s) even, the
+// polynomial in x = w^2 with E(jw) = F(w^2).
+Polynomial even_part_in_w2(const Polynomial& e) {
+  std::vector<double> f;
+  for (int k = 0; 2 * k <= e.degree(); ++k) f.push_back((k % 2 ? -1.0 : 1.0) * e[2 * k]);
+  return Polynomial(std::move(f));
+}
+
+// Im Q(jw) = w * G(w^2) with G built from the odd coefficients of Q.
+Polynomial odd_part_in_w2(const Polynomial& q) {
+  std::vector<double> g;
+  for (int k = 1; k <= q.degree(); k += 2) g.push_back(((k - 1) / 2 % 2 ? -1.0 : 1.0) * q[k]);
+  return Polynomial(std::move(g));
+}
+
+// Positive real roots x of f, returned as w = sqrt(x), ascending.
+std::vector<double> positive_sqrt_roots(const Polynomial& f) {
+  std::vector<double> out;
+  if (f.degree() < 1) return out;
+  for (const Complex& r : f.roots()) {
+    if (r.real() > 0.0 && std::abs(r.imag()) <= 1e-7 * std::abs(r)) out.push_back(std::sqrt(r.real()));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The rational function of a jv-axis variable whose value at jv equals g at w:
+// itself for a continuous g (v = w), or g((1+v)/(1-v)) for a discrete one
+// (v = tan(w ts / 2)).
+struct AxisForm {
+  Polynomial num, den;
+  bool discrete;
+  double ts;
+  explicit AxisForm(const TransferFunction& g) : discrete(g.is_discrete()), ts(g.ts()) {
+    if (!discrete) {
+      num = g.num();
+      den = g.den();
+      return;
+    }
+    const int n = std::max(g.num().degree(), g.den().degree());
+    const Polynomial f({1.0, 1.0}), h({1.0, -1.0});
+    auto sub = [&](const Polynomial& p) {
+      Polynomial out;
+      for (int k = 0; k <= p.degree(); ++k) out = out + p[k] * (f.pow(k) * h.pow(n - k));
+      return out;
+    };
+    num = sub(g.num());
+    den = sub(g.den());
+  }
+  double to_w(double v) const { return discrete ? 2.0 * std::atan(v) / ts : v; }
+  double to_v(double w) const { return discrete ? std::tan(w * ts / 2.0) : w; }
+  // d/dv of log L(jv), exact.
+  Complex dlog(double v) const {
+    const Complex s(0.0, v);
+    return Complex(0.0, 1.0) * (num.derivative()(s) / num(s) - den.derivative()(s) / den(s));
+  }
+  Complex value(double v) const {
+    const Complex s(0.0, v);
+    return num(s) / den(s);
+  }
+};
+
+// Newton refinement of a root v of f(v) = Re or Im of log L(jv) - target.
+double refine(const AxisForm& af, double v, bool magnitude, double target) {
+  for (int it = 0; it < 20; ++it) {
+    const Complex l = af.value(v);
+    if (l == Complex(0.0) || !std::isfinite(std::abs(l))) break;
+    const Complex dl = af.dlog(v);
+    const double f = magnitude ? std::log(std::abs(l)) - target : wrap_pi(std::arg(l) - target);
+    const double df = magnitude ? dl.real() : dl.imag();
+    if (df == 0.0 || !std::isfinite(df)) break;
+    double step = f / df;
+    if (!std::isfinite(step)) break;
+    // Stay near the polynomial root: refinement, not a search.
+    step = std::clamp(step, -0.1 * std::abs(v), 0.1 * std::abs(v));
+    v -= step;
+    if (std::abs(step) <= 1e-15 * std::abs(v)) break;
+  }
+  return v;
+}
+
+}  // namespace
+
+std::vector<double> logspace(double lo, double hi, int n) {
+  if (!(lo > 0.0) || !(hi >= lo) || n < 1) throw InputError("logspace needs 0 < lo <= hi and n >= 1");
+  if (n == 1) return {lo};
+  std::vector<double> w(static_cast<size_t>(n));
+  const double a = std::log10(lo), b = std::log10(hi);
+  for (int k = 0; k < n; ++k) w[static_cast<size_t>(k)] = std::pow(10.0, a + (b - a) * k / (n - 1));
+  w.front() = lo;
+  w.back() = hi;
+  return w;
+}
+
+std::vector<double> default_frequency_grid(const TransferFunction& g, int n) {
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  auto consider = [&](const Complex& r) {
+    double mag = g.is_discrete() ? std::abs(std::log(r)) / g.ts() : std::abs(r);
+    if (mag > 0.0 && std::isfinite(mag)) lo = std::min(lo, mag), hi = std::max(hi, mag);
+  };
+  for (const Complex& r : g.poles()) consider(r);
+  for (const Complex& r : g.zeros()) consider(r);
+  if (!(hi > 0.0)) lo = hi = g.is_discrete() ? 0.1 / g.ts() : 1.0;
+  lo /= 100.0;
+  hi *= 100.0;
+  if (g.is_discrete()) {
+    hi = M_PI / g.ts();
+    lo = std::min(lo, hi / 1000.0);
+  }
+  return logspace(lo, hi, n);
+}
+
+std::vector<Complex> frequency_response(const TransferFunction& g, const std::vector<double>& w) {
+  std::vector<Complex> h(w.size());
+  for (size_t k = 0; k < w.size(); ++k) h[k] = g.evaluate(point(g, w[k]));
+  return h;
+}
+
+std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys, const std::vector<double>& w) {
+  const int n = sys.num_states(), m = sys.num_inputs();
+  std::vector<Eigen::MatrixXcd> out(w.size());
+  if (n == 0) {
+    for (auto& r : out) r = sys.d().cast<Complex>();
+    return out;
+  }
+  // A = Q H Q^T with H upper Hessenberg: G(x) = C Q (xI - H)^-1 Q^T B + D.
+  Eigen::HessenbergDecomposition<Matrix> hd(sys.a());
+  const Matrix h = hd.matrixH();
+  const Matrix q = hd.matrixQ();
+  const Eigen::MatrixXcd bt = (q.transpose() * sys.b()).cast<Complex>();
+  const Eigen::MatrixXcd ct = (sys.c() * q).cast<Complex>();
+  const Eigen::MatrixXcd d = sys.d().cast<Complex>();
+  Eigen::MatrixXcd work(n, n), x(n, m);
+  for (size_t k = 0; k < w.size(); ++k) {
+    const Complex s = sys.is_discrete() ? std::polar(1.0, w[k] * sys.ts()) : Complex(0.0, w[k]);
+    work = -h.cast<Complex>();
+    work.diagonal().array() += s;
+    x = bt;
+    // Gaussian elimination with partial pivoting on a Hessenberg matrix: only the
+    // sub-diagonal entry is below each pivot, so it costs O(n^2) instead of O(n^3).
+    for (int c = 0; c < n - 1; ++c) {
+      if (std::abs(work(c + 1, c)) > std::abs(work(c, c))) {
+        work.row(c).tail(n - c).swap(work.row(c + 1).tail(n - c));
+        x.row(c).swap(x.row(c + 1));
+      }
+      if (work(c, c) == Complex(0.0)) continue;
+      const Complex f = work(c + 1, c) / work(c, c);
+      work.row(c + 1).tail(n - c - 1) -= f * work.row(c).tail(n - c - 1);
+      work(c + 1, c) = 0.0;
+      x.row(c + 1) -= f * x.row(c);
+    }
+    for (int r = n - 1; r >= 0; --r) {
+      if (r + 1 < n) x.row(r) -= work.row(r).tail(n - r - 1) * x.bottomRows(n - r - 1);
+      x.row(r) /= work(r, r);
+    }
+    out[k] = ct * x + d;
+  }
+  return out;
+}
+
+Bode bode(const TransferFunction& g, const std::vector<double>& w) {
+  Bode b;
+  b.w_rad_s = w;
+  b.response = frequency_response(g, w);
+  const PhaseModel model(g);
+  b.mag_db.resize(w.size());
+  b.phase_deg.resize(w.size());
+  for (size_t k = 0; k < w.size(); ++k) {
+    const Complex h = b.response[k];
+    b.mag_db[k] = 20.0 * std::log10(std::abs(h));
+    const double model_deg = model.phase_rad(w[k]) * kDeg;
+    if (h == Complex(0.0) || !std::isfinite(std::abs(h))) {
+      b.phase_deg[k] = model_deg;
+    } else {
+      const double a = std::arg(h) * kDeg;
+      b.phase_deg[k] = a + 360.0 * std::round((model_deg - a) / 360.0);
+    }
+  }
+  return b;
+}
+
+Margins margins(const TransferFunction& loop) {
+  Margins out;
+  if (loop.num().is_zero()) return out;
+  const AxisForm af(loop);
+  const Polynomial& n = af.num;
+  const Polynomial& d = af.den;
+  const PhaseModel model(loop);
+
+  // Gain crossovers: |N(jv)|^2 = |D(jv)|^2.
+  const Polynomial e = n * n.negated_argument() - d * d.negated_argument();
+  std::vector<double> gc = positive_sqrt_roots(even_part_in_w2(e));
+  // Phase crossovers: Im N(jv) D(-jv) = 0 with the real part negative.
+  const Polynomial q = n * d.negated_argument();
+  std::vector<double> pc = positive_sqrt_roots(odd_part_in_w2(q));
+  pc.insert(pc.begin(), 0.0);  // DC is a phase crossover if L(0) is real negative
+
+  for (double v : gc) {
+    v = refine(af, v, true, 0.0);
+    const double w = af.to_w(v);
+    const double ph = bode(loop, {w}).phase_deg[0];
+    double pm = std::remainder(180.0 + ph, 360.0);
+    if (pm <= -180.0) pm += 360.0;
+    out.gain_crossovers.push_back({w, pm});
+  }
+  auto add_phase_crossover = [&](double w, Complex l) {
+    if (!(l.real() < 0.0) || !std::isfinite(std::abs(l))) return;
+    if (std::abs(l.imag()) > 1e-6 * std::abs(l)) return;
+    out.phase_crossovers.push_back({w, -20.0 * std::log10(std::abs(l))});
+  };
+  for (double v : pc) {
+    if (v > 0.0) v = refine(af, v, false, M_PI);
+    const double w = af.to_w(v);
+    add_phase_crossover(w, loop.evaluate(point(loop, w)));
+  }
+  if (loop.is_discrete()) add_phase_crossover(M_PI / loop.ts(), loop.evaluate(Complex(-1.0, 0.0)));
+
+  auto by_w = [](const Crossing& a, const Crossing& b) { return a.w_rad_s < b.w_rad_s; };
+  std::sort(out.gain_crossovers.begin(), out.gain_crossovers.end(), by_w);
+  std::sort(out.phase_crossovers.begin(), out.phase_crossovers.end(), by_w);
+  auto smallest = [](const std::vector<Crossing>& cs) {
+    const Crossing* best = nullptr;
+    for (const Crossing& c : cs)
+      if (!best || std::abs(c.margin) < std::abs(best->margin)) best = &c;
+    return best;
+  };
+  if (const Crossing* c = smallest(out.gain_crossovers)) {
+    out.phase_margin_deg = c->margin;
+    out.gain_crossover_rad_s = c->w_rad_s;
+  }
+  if (const Crossing* c = smallest(out.phase_crossovers)) {
+    out.gain_margin_db = c->margin;
+    out.phase_crossover_rad_s = c->w_rad_s;
+  }
+  return out;
+}
+
+std::optional<double> bandwidth(const TransferFunction& g, double drop_db) {
+  const std::optional<double> dc = g.dc_gain();
+  if (!dc || *dc == 0.0) return std::nullopt;
+  const double level = std::abs(*dc) * std::pow(10.0, drop_db / 20.0);
+  const AxisForm af(g);
+  const Polynomial e = af.num * af.num.negated_argument() - (level * level) * (af.den * af.den.negated_argument());
+  for (double v : positive_sqrt_roots(even_part_in_w2(e))) {
+    v = refine(af, v, true, std::log(level));
+    const double w = af.to_w(v);
+    if (g.is_discrete() && !(w < M_PI / g.ts())) continue;
+    // A downward crossing: just above it the gain is below the level.
+    if (std::abs(g.evaluate(point(g, w * (1.0 + 1e-6)))) < level) return w;
+  }
+  return std::nullopt;
+}
+
+}  // namespace dmbd::blocks

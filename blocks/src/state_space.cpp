@@ -1,0 +1,299 @@
+#include "dmbd/blocks/state_space.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <cmath>
+#include <string>
+
+#include "dmbd/blocks/error.hpp"
+
+namespace dmbd::blocks {
+
+namespace {
+
+std::string dims(const Matrix& m) { return std::to_string(m.rows()) + "x" + std::to_string(m.cols()); }
+
+Matrix blkdiag(const Matrix& a, const Matrix& b) {
+  Matrix m = Matrix::Zero(a.rows() + b.rows(), a.cols() + b.cols());
+  m.topLeftCorner(a.rows(), a.cols()) = a;
+  m.bottomRightCorner(b.rows(), b.cols()) = b;
+  return m;
+}
+
+// Coefficients (ascending) of prod (s - lambda_i), real by construction of conjugate pairs.
+Polynomial char_poly(const Matrix& a) {
+  if (a.rows() == 0) return Polynomial::constant(1.0);
+  const Vector d = balancing_scales(a);
+  const Matrix bal = d.cwiseInverse().asDiagonal() * a * d.asDiagonal();
+  Eigen::EigenSolver<Matrix> es(bal, false);
+  if (es.info() != Eigen::Success) throw InputError("eigenvalue computation did not converge");
+  std::vector<Complex> ev(es.eigenvalues().data(), es.eigenvalues().data() + es.eigenvalues().size());
+  return Polynomial::from_roots(ev, 1.0);
+}
+
+// Orthonormal basis of the Krylov space span[B, AB, A^2 B, ...].
+Matrix krylov_basis(const Matrix& a, const Matrix& b, double tol) {
+  const int n = static_cast<int>(a.rows());
+  Matrix q(n, 0);
+  Matrix r = b;
+  const double scale = std::max({a.norm(), b.norm(), 1e-300});
+  for (int k = 0; k < n && q.cols() < n && r.cols() > 0; ++k) {
+    for (int pass = 0; pass < 2; ++pass) r -= q * (q.transpose() * r);
+    Eigen::JacobiSVD<Matrix> svd(r, Eigen::ComputeThinU);
+    const auto& sv = svd.singularValues();
+    int keep = 0;
+    while (keep < sv.size() && sv(keep) > tol * scale && q.cols() + keep < n) ++keep;
+    if (keep == 0) break;
+    Matrix next(n, q.cols() + keep);
+    next << q, svd.matrixU().leftCols(keep);
+    q = next;
+    r = a * svd.matrixU().leftCols(keep);
+  }
+  return q;
+}
+
+}  // namespace
+
+StateSpace::StateSpace(Matrix a, Matrix b, Matrix c, Matrix d, double ts)
+    : a_(std::move(a)), b_(std::move(b)), c_(std::move(c)), d_(std::move(d)), ts_(ts) {
+  if (!(ts >= 0.0) || !std::isfinite(ts)) throw InputError("sample time must be a finite number >= 0");
+  const auto n = a_.rows();
+  if (a_.cols() != n) throw InputError("state-space A must be square, got " + dims(a_));
+  if (b_.rows() != n) throw InputError("state-space B must have " + std::to_string(n) + " rows (A is " + dims(a_) +
+                                       "), got " + dims(b_));
+  if (c_.cols() != n) throw InputError("state-space C must have " + std::to_string(n) + " columns (A is " +
+                                       dims(a_) + "), got " + dims(c_));
+  if (d_.rows() != c_.rows() || d_.cols() != b_.cols())
+    throw InputError("state-space D must be " + std::to_string(c_.rows()) + "x" + std::to_string(b_.cols()) +
+                     " (outputs x inputs), got " + dims(d_));
+  if (!a_.allFinite() || !b_.allFinite() || !c_.allFinite() || !d_.allFinite())
+    throw InputError("state-space matrices must be finite");
+}
+
+StateSpace StateSpace::gain(const Matrix& d, double ts) {
+  return StateSpace(Matrix(0, 0), Matrix(0, d.cols()), Matrix(d.rows(), 0), d, ts);
+}
+
+StateSpace StateSpace::from_tf(const TransferFunction& tf) {
+  if (!tf.is_proper())
+    throw InputError("an improper transfer function (numerator degree " + std::to_string(tf.num().degree()) +
+                     " > denominator degree " + std::to_string(tf.den().degree()) + ") has no state-space realisation");
+  const int n = tf.order();
+  const Polynomial& den = tf.den();  // monic
+  const double d = tf.num()[n];
+  const Polynomial r = tf.num() - d * den;  // strictly proper part's numerator
+  Matrix a = Matrix::Zero(n, n), b = Matrix::Zero(n, 1), c = Matrix::Zero(1, n), dm(1, 1);
+  for (int j = 0; j < n; ++j) {
+    a(0, j) = -den[n - 1 - j];
+    c(0, j) = r[n - 1 - j];
+  }
+  for (int i = 1; i < n; ++i) a(i, i - 1) = 1.0;
+  if (n > 0) b(0, 0) = 1.0;
+  dm(0, 0) = d;
+  return StateSpace(a, b, c, dm, tf.ts()).balanced();
+}
+
+TransferFunction StateSpace::to_tf(int out, int in) const {
+  if (out < 0 || out >= num_outputs() || in < 0 || in >= num_inputs())
+    throw InputError("no channel from input " + std::to_string(in) + " to output " + std::to_string(out));
+  const Matrix bi = b_.col(in);
+  const Matrix co = c_.row(out);
+  const double d = d_(out, in);
+  const int n = num_states();
+  const Polynomial den = char_poly(a_);
+  const Polynomial pz = char_poly(a_ - bi * co);
+  // C (sI-A)^-1 B = [det(sI-A+BC) - det(sI-A)] / det(sI-A)
+  Polynomial num = pz - den + d * den;
+  // The subtraction leaves rounding residue in place of coefficients that are exactly
+  // zero (relative degree > 1): drop leading ones that are negligible at the system's
+  // frequency scale, measured against the determinants' own size.
+  double w0 = 1.0;
+  if (n > 0) {
+    double logsum = 0.0;
+    int count = 0;
+    for (const Complex& p : poles())
+      if (std::abs(p) > 0.0) logsum += std::log(std::abs(p)), ++count;
+    if (count > 0) w0 = std::exp(logsum / count);
+  }
+  double size = 0.0;
+  for (int k = 0; k <= n; ++k)
+    size = std::max({size, std::abs(den[k]) * std::pow(w0, k), std::abs(pz[k]) * std::pow(w0, k)});
+  std::vector<double> c = num.coeffs();
+  while (!c.empty() && std::abs(c.back()) * std::pow(w0, static_cast<double>(c.size() - 1)) <= 1e-11 * size)
+    c.pop_back();
+  return TransferFunction(Polynomial(std::move(c)), den, ts_);
+}
+
+std::vector<Complex> StateSpace::poles() const {
+  if (num_states() == 0) return {};
+  const Vector d = balancing_scales(a_);
+  const Matrix bal = d.cwiseInverse().asDiagonal() * a_ * d.asDiagonal();
+  Eigen::EigenSolver<Matrix> es(bal, false);
+  if (es.info() != Eigen::Success) throw InputError("eigenvalue computation did not converge");
+  std::vector<Complex> ev(es.eigenvalues().data(), es.eigenvalues().data() + es.eigenvalues().size());
+  std::sort(ev.begin(), ev.end(), [](const Complex& x, const Complex& y) {
+    return x.real() != y.real() ? x.real() < y.real() : x.imag() < y.imag();
+  });
+  return ev;
+}
+
+bool StateSpace::is_stable() const {
+  for (const Complex& p : poles())
+    if (is_discrete() ? !(std::abs(p) < 1.0) : !(p.real() < 0.0)) return false;
+  return true;
+}
+
+Matrix StateSpace::dc_gain() const {
+  if (num_states() == 0) return d_;
+  const Matrix m = is_discrete() ? Matrix(Matrix::Identity(num_states(), num_states()) - a_) : Matrix(-a_);
+  Eigen::FullPivLU<Matrix> lu(m);
+  lu.setThreshold(1e-12);
+  if (!lu.isInvertible()) throw InputError("the system has a pole at DC: its steady-state gain is infinite");
+  return d_ + c_ * lu.solve(b_);
+}
+
+Eigen::MatrixXcd StateSpace::evaluate(Complex x) const {
+  const int n = num_states();
+  if (n == 0) return d_.cast<Complex>();
+  Eigen::MatrixXcd m = x * Eigen::MatrixXcd::Identity(n, n) - a_.cast<Complex>();
+  return c_.cast<Complex>() * Eigen::PartialPivLU<Eigen::MatrixXcd>(m).solve(b_.cast<Complex>()) +
+         d_.cast<Complex>();
+}
+
+StateSpace StateSpace::minimal(double tol) const {
+  if (num_states() == 0) return *this;
+  const StateSpace bal = balanced();
+  const Matrix qc = krylov_basis(bal.a_, bal.b_, tol);
+  const Matrix ac = qc.transpose() * bal.a_ * qc, bc = qc.transpose() * bal.b_, cc = bal.c_ * qc;
+  const Matrix qo = krylov_basis(ac.transpose(), cc.transpose(), tol);
+  return StateSpace(qo.transpose() * ac * qo, qo.transpose() * bc, cc * qo, d_, ts_);
+}
+
+StateSpace StateSpace::transformed(const Matrix& t) const {
+  if (t.rows() != num_states() || t.cols() != num_states())
+    throw InputError("similarity transform must be " + std::to_string(num_states()) + "x" +
+                     std::to_string(num_states()));
+  Eigen::FullPivLU<Matrix> lu(t);
+  if (!lu.isInvertible()) throw InputError("similarity transform is singular");
+  return StateSpace(lu.solve(a_ * t), lu.solve(b_), c_ * t, d_, ts_);
+}
+
+StateSpace StateSpace::balanced() const {
+  if (num_states() == 0) return *this;
+  const Vector d = balancing_scales(a_);
+  return StateSpace(d.cwiseInverse().asDiagonal() * a_ * d.asDiagonal(), d.cwiseInverse().asDiagonal() * b_,
+                    c_ * d.asDiagonal(), d_, ts_);
+}
+
+StateSpace StateSpace::select(const std::vector<int>& outputs, const std::vector<int>& inputs) const {
+  Matrix b(num_states(), static_cast<Eigen::Index>(inputs.size())), c(static_cast<Eigen::Index>(outputs.size()), num_states()),
+      d(static_cast<Eigen::Index>(outputs.size()), static_cast<Eigen::Index>(inputs.size()));
+  for (size_t j = 0; j < inputs.size(); ++j) {
+    if (inputs[j] < 0 || inputs[j] >= num_inputs()) throw InputError("input index out of range");
+    b.col(static_cast<Eigen::Index>(j)) = b_.col(inputs[j]);
+  }
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i] < 0 || outputs[i] >= num_outputs()) throw InputError("output index out of range");
+    c.row(static_cast<Eigen::Index>(i)) = c_.row(outputs[i]);
+    for (size_t j = 0; j < inputs.size(); ++j)
+      d(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d_(outputs[i], inputs[j]);
+  }
+  return StateSpace(a_, b, c, d, ts_);
+}
+
+StateSpace series(const StateSpace& first, const StateSpace& second) {
+  require_same_ts(first.ts(), second.ts(), "series connection");
+  if (second.num_inputs() != first.num_outputs())
+    throw InputError("series connection: " + std::to_string(first.num_outputs()) + " outputs feed " +
+                     std::to_string(second.num_inputs()) + " inputs");
+  const int n1 = first.num_states(), n2 = second.num_states();
+  Matrix a = Matrix::Zero(n1 + n2, n1 + n2);
+  a.topLeftCorner(n1, n1) = first.a();
+  a.bottomLeftCorner(n2, n1) = second.b() * first.c();
+  a.bottomRightCorner(n2, n2) = second.a();
+  Matrix b(n1 + n2, first.num_inputs());
+  b << first.b(), second.b() * first.d();
+  Matrix c(second.num_outputs(), n1 + n2);
+  c << second.d() * first.c(), second.c();
+  return StateSpace(a, b, c, second.d() * first.d(), first.ts());
+}
+
+StateSpace parallel(const StateSpace& x, const StateSpace& y) {
+  require_same_ts(x.ts(), y.ts(), "parallel connection");
+  if (x.num_inputs() != y.num_inputs() || x.num_outputs() != y.num_outputs())
+    throw InputError("parallel connection: systems have different numbers of inputs or outputs");
+  Matrix b(x.num_states() + y.num_states(), x.num_inputs());
+  b << x.b(), y.b();
+  Matrix c(x.num_outputs(), x.num_states() + y.num_states());
+  c << x.c(), y.c();
+  return StateSpace(blkdiag(x.a(), y.a()), b, c, x.d() + y.d(), x.ts());
+}
+
+StateSpace append(const StateSpace& x, const StateSpace& y) {
+  require_same_ts(x.ts(), y.ts(), "append");
+  return StateSpace(blkdiag(x.a(), y.a()), blkdiag(x.b(), y.b()), blkdiag(x.c(), y.c()), blkdiag(x.d(), y.d()),
+                    x.ts());
+}
+
+StateSpace feedback(const StateSpace& f, const StateSpace& h, int sign) {
+  require_same_ts(f.ts(), h.ts(), "feedback connection");
+  if (h.num_inputs() != f.num_outputs() || h.num_outputs() != f.num_inputs())
+    throw InputError("feedback connection: the feedback path must map the " + std::to_string(f.num_outputs()) +
+                     " outputs back to the " + std::to_string(f.num_inputs()) + " inputs");
+  const double s = static_cast<double>(sign);
+  const int ny = f.num_outputs(), nu = f.num_inputs(), nf = f.num_states(), nh = h.num_states();
+  const Matrix m = Matrix::Identity(ny, ny) - s * f.d() * h.d();
+  Eigen::FullPivLU<Matrix> lu(m);
+  lu.setThreshold(1e-12);
+  if (!lu.isInvertible())
+    throw InputError("algebraic loop: I - sign*D_forward*D_feedback is singular, the feedback connection is ill-posed");
+  Matrix cx(ny, nf + nh);
+  cx << f.c(), s * f.d() * h.c();
+  const Matrix cy = lu.solve(cx);      // y = Cy x + Dy r
+  const Matrix dy = lu.solve(f.d());
+  Matrix cu0 = Matrix::Zero(nu, nf + nh);
+  cu0.rightCols(nh) = s * h.c();
+  const Matrix cu = cu0 + s * h.d() * cy;  // u = Cu x + Du r
+  const Matrix du = Matrix::Identity(nu, nu) + s * h.d() * dy;
+  Matrix a = blkdiag(f.a(), h.a());
+  a.topRows(nf) += f.b() * cu;
+  a.bottomRows(nh) += h.b() * cy;
+  Matrix b(nf + nh, nu);
+  b << f.b() * du, h.b() * dy;
+  return StateSpace(a, b, cy, dy, f.ts());
+}
+
+Vector balancing_scales(const Matrix& m) {
+  const int n = static_cast<int>(m.rows());
+  Matrix a = m;
+  Vector scale = Vector::Ones(n);
+  constexpr double radix = 2.0, sqrdx = radix * radix;
+  bool done = false;
+  for (int sweep = 0; !done && sweep < 100; ++sweep) {
+    done = true;
+    for (int i = 0; i < n; ++i) {
+      double r = 0.0, c = 0.0;
+      for (int j = 0; j < n; ++j)
+        if (j != i) {
+          c += std::abs(a(j, i));
+          r += std::abs(a(i, j));
+        }
+      if (c == 0.0 || r == 0.0) continue;
+      double g = r / radix, f = 1.0;
+      const double s = c + r;
+      while (c < g) f *= radix, c *= sqrdx;
+      g = r * radix;
+      while (c > g) f /= radix, c /= sqrdx;
+      if ((c + r) / f < 0.95 * s) {
+        done = false;
+        scale(i) *= f;
+        a.row(i) /= f;
+        a.col(i) *= f;
+      }
+    }
+  }
+  return scale;
+}
+
+}  // namespace dmbd::blocks

@@ -1,0 +1,238 @@
+#include "dmbd/blocks/time_response.hpp"
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "dmbd/blocks/error.hpp"
+
+namespace dmbd::blocks {
+
+namespace {
+
+struct Zoh {
+  Matrix phi, gamma;
+};
+
+Zoh zoh(const StateSpace& sys, double dt) {
+  const int n = sys.num_states(), m = sys.num_inputs();
+  Matrix big = Matrix::Zero(n + m, n + m);
+  big.topLeftCorner(n, n) = sys.a() * dt;
+  big.topRightCorner(n, m) = sys.b() * dt;
+  const Matrix e = big.exp();
+  return {e.topLeftCorner(n, n), e.topRightCorner(n, m)};
+}
+
+void check_channel(const StateSpace& sys, int in) {
+  if (in < 0 || in >= sys.num_inputs())
+    throw InputError("input " + std::to_string(in) + " does not exist (the system has " +
+                     std::to_string(sys.num_inputs()) + ")");
+}
+
+void check_horizon(double t_end, int n) {
+  if (!(t_end > 0.0) || !std::isfinite(t_end)) throw InputError("the final time must be a positive number of seconds");
+  if (n < 2) throw InputError("a time response needs at least 2 samples");
+}
+
+// Simulate x[k+1] = phi x[k] + gamma u[k], y[k] = C x[k] + D u[k].
+TimeResponse run(const StateSpace& sys, const Matrix& phi, const Matrix& gamma, const Matrix& u, double dt,
+                 const Vector& x0) {
+  const Eigen::Index samples = u.rows();
+  TimeResponse r;
+  r.t.resize(static_cast<size_t>(samples));
+  r.y.resize(samples, sys.num_outputs());
+  Vector x = x0.size() ? x0 : Vector::Zero(sys.num_states());
+  Vector xn(x.size()), uk(u.cols());
+  for (Eigen::Index k = 0; k < samples; ++k) {
+    r.t[static_cast<size_t>(k)] = static_cast<double>(k) * dt;
+    uk = u.row(k).transpose();
+    r.y.row(k).noalias() = (sys.c() * x + sys.d() * uk).transpose();
+    xn.noalias() = phi * x;
+    xn.noalias() += gamma * uk;
+    x.swap(xn);
+  }
+  return r;
+}
+
+// Root of f in [a, b] where f(a) and f(b) differ in sign, by bisection to rounding level.
+double bisect(const std::function<double(double)>& f, double a, double b) {
+  double fa = f(a);
+  for (int it = 0; it < 200 && b - a > 4.0 * std::numeric_limits<double>::epsilon() * std::abs(b); ++it) {
+    const double m = 0.5 * (a + b);
+    const double fm = f(m);
+    if ((fm > 0.0) == (fa > 0.0)) {
+      a = m;
+      fa = fm;
+    } else {
+      b = m;
+    }
+  }
+  return 0.5 * (a + b);
+}
+
+// Maximum of a locally unimodal f on [a, b] (golden section).
+double golden_max(const std::function<double(double)>& f, double a, double b) {
+  const double r = (std::sqrt(5.0) - 1.0) / 2.0;
+  double c = b - r * (b - a), d = a + r * (b - a);
+  double fc = f(c), fd = f(d);
+  for (int it = 0; it < 200 && b - a > 1e-15 * std::abs(b); ++it) {
+    if (fc > fd) {
+      b = d;
+      d = c;
+      fd = fc;
+      c = b - r * (b - a);
+      fc = f(c);
+    } else {
+      a = c;
+      c = d;
+      fc = fd;
+      d = a + r * (b - a);
+      fd = f(d);
+    }
+  }
+  return 0.5 * (a + b);
+}
+
+}  // namespace
+
+TimeResponse step(const StateSpace& sys, double t_end, int n, int in) {
+  check_channel(sys, in);
+  if (sys.is_discrete()) {
+    if (!(t_end > 0.0)) throw InputError("the final time must be a positive number of seconds");
+    n = static_cast<int>(std::floor(t_end / sys.ts() + 1e-9)) + 1;
+    if (n > 50'000'000) throw InputError("step: too many samples for this sample time and final time");
+  }
+  check_horizon(t_end, std::max(n, 2));
+  Matrix u = Matrix::Zero(n, sys.num_inputs());
+  u.col(in).setOnes();
+  const double dt = sys.is_discrete() ? sys.ts() : t_end / (n - 1);
+  return lsim(sys, u, dt);
+}
+
+TimeResponse impulse(const StateSpace& sys, double t_end, int n, int in) {
+  check_channel(sys, in);
+  if (sys.is_discrete()) {
+    if (!(t_end > 0.0)) throw InputError("the final time must be a positive number of seconds");
+    n = static_cast<int>(std::floor(t_end / sys.ts() + 1e-9)) + 1;
+    Matrix u = Matrix::Zero(n, sys.num_inputs());
+    u(0, in) = 1.0;
+    return lsim(sys, u, sys.ts());
+  }
+  check_horizon(t_end, n);
+  const double dt = t_end / (n - 1);
+  const Zoh z = zoh(sys, dt);
+  const StateSpace free(sys.a(), Matrix::Zero(sys.num_states(), 1), sys.c(), Matrix::Zero(sys.num_outputs(), 1));
+  return run(free, z.phi, Matrix::Zero(sys.num_states(), 1), Matrix::Zero(n, 1), dt, sys.b().col(in));
+}
+
+TimeResponse lsim(const StateSpace& sys, const Matrix& u, double dt, const Vector& x0) {
+  if (u.cols() != sys.num_inputs())
+    throw InputError("lsim: the input has " + std::to_string(u.cols()) + " columns, the system " +
+                     std::to_string(sys.num_inputs()) + " inputs");
+  if (x0.size() != 0 && x0.size() != sys.num_states())
+    throw InputError("lsim: the initial state has " + std::to_string(x0.size()) + " entries, the system " +
+                     std::to_string(sys.num_states()) + " states");
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw InputError("lsim: the time step must be positive");
+  if (sys.is_discrete()) {
+    if (std::abs(dt - sys.ts()) > 1e-12 * sys.ts())
+      throw InputError("lsim: a discrete system runs at its own sample time " + std::to_string(sys.ts()) + " s");
+    return run(sys, sys.a(), sys.b(), u, sys.ts(), x0);
+  }
+  const Zoh z = zoh(sys, dt);
+  return run(sys, z.phi, z.gamma, u, dt, x0);
+}
+
+StepInfo step_info(const StateSpace& sys, const TimeResponse& resp, int out, int in, double settling_fraction,
+                   double rise_low, double rise_high) {
+  StepInfo info;
+  check_channel(sys, in);
+  if (out < 0 || out >= sys.num_outputs() || resp.y.cols() != sys.num_outputs())
+    throw InputError("step_info: output index out of range");
+  const size_t n = resp.t.size();
+  if (n < 2 || !sys.is_stable()) return info;
+  const StateSpace ch = sys.select({out}, {in});
+  const double final = ch.dc_gain()(0, 0);
+  info.final_value = final;
+  // Exact response between samples (continuous): y(t) = C Gamma(t) + D for a unit step
+  // from rest; on samples of a discrete system only.
+  const bool exact = !sys.is_discrete();
+  auto y_at = [&](double t) {
+    if (t <= 0.0) return ch.d()(0, 0);
+    const Zoh z = zoh(ch, t);
+    return (ch.c() * z.gamma)(0, 0) + ch.d()(0, 0);
+  };
+  std::vector<double> y(n);
+  for (size_t k = 0; k < n; ++k) y[k] = resp.y(static_cast<Eigen::Index>(k), out);
+
+  // Peak.
+  size_t kp = 0;
+  for (size_t k = 1; k < n; ++k)
+    if ((final >= 0 ? y[k] > y[kp] : y[k] < y[kp])) kp = k;
+  double tp = resp.t[kp], yp = y[kp];
+  if (exact && kp > 0 && kp + 1 < n) {
+    const double sgn = final >= 0 ? 1.0 : -1.0;
+    tp = golden_max([&](double t) { return sgn * y_at(t); }, resp.t[kp - 1], resp.t[kp + 1]);
+    yp = y_at(tp);
+    if (sgn * yp < sgn * y[kp]) tp = resp.t[kp], yp = y[kp];
+  }
+  info.peak = yp;
+  info.peak_time_s = tp;
+  if (final == 0.0) return info;
+  info.overshoot_pct = std::max(0.0, (yp - final) / final * 100.0);
+
+  // Crossing time of the normalised response through `level`, between samples.
+  auto crossing = [&](size_t k, double level) {  // y[k-1] below level, y[k] at or above (normalised)
+    if (!exact) return resp.t[k];
+    return bisect([&](double t) { return y_at(t) / final - level; }, resp.t[k - 1], resp.t[k]);
+  };
+  auto first_at_or_above = [&](double level) -> std::optional<double> {
+    for (size_t k = 0; k < n; ++k)
+      if (y[k] / final >= level) return k == 0 ? resp.t[0] : crossing(k, level);
+    return std::nullopt;
+  };
+  const auto t_lo = first_at_or_above(rise_low), t_hi = first_at_or_above(rise_high);
+  if (t_lo && t_hi) info.rise_time_s = *t_hi - *t_lo;
+
+  // Settling: after the last sample outside the band.
+  size_t last_out = n;
+  for (size_t k = n; k-- > 0;)
+    if (std::abs(y[k] / final - 1.0) > settling_fraction) {
+      last_out = k;
+      break;
+    }
+  if (last_out == n) {
+    info.settling_time_s = resp.t[0];
+  } else if (last_out + 1 < n) {
+    if (!exact) {
+      info.settling_time_s = resp.t[last_out + 1];
+    } else {
+      const double side = y[last_out] / final - 1.0 > 0.0 ? settling_fraction : -settling_fraction;
+      info.settling_time_s = bisect([&](double t) { return y_at(t) / final - 1.0 - side; }, resp.t[last_out],
+                                    resp.t[last_out + 1]);
+    }
+  }
+  return info;
+}
+
+double default_step_horizon(const StateSpace& sys) {
+  double slowest = std::numeric_limits<double>::infinity(), fastest = 0.0;
+  bool stable = true;
+  for (const Complex& p : sys.poles()) {
+    const Complex s = sys.is_discrete() ? std::log(p) / sys.ts() : p;
+    if (!(s.real() < 0.0)) stable = false;
+    if (std::abs(s) > 0.0 && std::isfinite(std::abs(s))) fastest = std::max(fastest, std::abs(s));
+    if (s.real() < 0.0) slowest = std::min(slowest, -s.real());
+  }
+  double t = 1.0;
+  if (stable && std::isfinite(slowest)) {
+    t = 7.0 / slowest;
+  } else if (fastest > 0.0) {
+    t = 10.0 / fastest;
+  }
+  if (sys.is_discrete()) t = std::max(t, 20.0 * sys.ts());
+  return std::clamp(t, 1e-6, 1e6);
+}
+
+}  // namespace dmbd::blocks

@@ -1,0 +1,157 @@
+#include "dmbd/blocks/transfer_function.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "dmbd/blocks/error.hpp"
+
+namespace dmbd::blocks {
+
+namespace {
+
+// Whether x0 is a root of p, judged against the rounding error of evaluating p there.
+bool is_root(const Polynomial& p, double x0) {
+  double scale = 0.0, xk = 1.0;
+  for (double c : p.coeffs()) {
+    scale += std::abs(c) * xk;
+    xk *= std::abs(x0);
+  }
+  return std::abs(p(x0)) <= 1e-12 * scale;
+}
+
+// Multiplicity of the root x0, removing it by synthetic division.
+int deflate_root(Polynomial& p, double x0) {
+  int m = 0;
+  while (p.degree() >= 1 && is_root(p, x0)) {
+    if (x0 == 0.0) {
+      std::vector<double> c(p.coeffs().begin() + 1, p.coeffs().end());
+      p = Polynomial(std::move(c));
+    } else {
+      p = Polynomial::divide(p, Polynomial({-x0, 1.0})).first;
+    }
+    ++m;
+  }
+  return m;
+}
+
+}  // namespace
+
+void require_same_ts(double a, double b, const char* what) {
+  if (a != b)
+    throw InputError(std::string(what) + ": cannot combine systems with different sample times (" +
+                     std::to_string(a) + " s and " + std::to_string(b) + " s)");
+}
+
+TransferFunction::TransferFunction(Polynomial num, Polynomial den, double ts) : ts_(ts) {
+  if (!(ts >= 0.0) || !std::isfinite(ts)) throw InputError("sample time must be a finite number >= 0");
+  if (den.is_zero()) throw InputError("transfer function with a zero denominator");
+  for (double c : num.coeffs())
+    if (!std::isfinite(c)) throw InputError("transfer function numerator has a non-finite coefficient");
+  for (double c : den.coeffs())
+    if (!std::isfinite(c)) throw InputError("transfer function denominator has a non-finite coefficient");
+  const double lead = den.leading();
+  num_ = (1.0 / lead) * num;
+  den_ = (1.0 / lead) * den;
+  // Make the leading coefficient exactly 1 (1/lead*lead may round).
+  std::vector<double> d = den_.coeffs();
+  d.back() = 1.0;
+  den_ = Polynomial(std::move(d));
+}
+
+TransferFunction::TransferFunction(double gain, double ts)
+    : TransferFunction(Polynomial::constant(gain), Polynomial::constant(1.0), ts) {}
+
+TransferFunction TransferFunction::from_descending(const std::vector<double>& num, const std::vector<double>& den,
+                                                   double ts) {
+  return TransferFunction(Polynomial::from_descending(num), Polynomial::from_descending(den), ts);
+}
+
+TransferFunction TransferFunction::parse(std::string_view expression, const ParameterMap& params, double ts) {
+  const Expression e = Expression::parse(expression);
+  if (!(ts >= 0.0) || !std::isfinite(ts)) throw InputError("sample time must be a finite number >= 0");
+  const Rational r = e.evaluate_rational(params, ts > 0.0 ? 'z' : 's');
+  return TransferFunction(r.num, r.den, ts);
+}
+
+std::optional<double> TransferFunction::dc_gain() const {
+  const double x0 = is_discrete() ? 1.0 : 0.0;
+  Polynomial n = num_, d = den_;
+  if (n.is_zero()) return 0.0;
+  const int mn = deflate_root(n, x0);
+  const int md = deflate_root(d, x0);
+  if (md > mn) return std::nullopt;
+  if (mn > md) return 0.0;
+  return n(x0) / d(x0);
+}
+
+bool TransferFunction::is_stable() const {
+  for (const Complex& p : poles()) {
+    if (is_discrete() ? !(std::abs(p) < 1.0) : !(p.real() < 0.0)) return false;
+  }
+  return true;
+}
+
+TransferFunction TransferFunction::minreal(double tol) const {
+  std::vector<Complex> z = zeros(), p = poles();
+  std::vector<bool> pz(z.size(), false), pp(p.size(), false);
+  bool any = false;
+  for (size_t i = 0; i < z.size(); ++i) {
+    size_t best = p.size();
+    double best_d = 0.0;
+    for (size_t j = 0; j < p.size(); ++j) {
+      if (pp[j]) continue;
+      const double dist = std::abs(z[i] - p[j]);
+      if (dist <= tol * (1.0 + std::abs(p[j])) && (best == p.size() || dist < best_d)) best = j, best_d = dist;
+    }
+    if (best != p.size()) {
+      pz[i] = pp[best] = true;
+      any = true;
+    }
+  }
+  if (!any) return *this;
+  std::vector<Complex> zr, pr;
+  for (size_t i = 0; i < z.size(); ++i)
+    if (!pz[i]) zr.push_back(z[i]);
+  for (size_t j = 0; j < p.size(); ++j)
+    if (!pp[j]) pr.push_back(p[j]);
+  // Cancelled pairs were matched one to one; conjugates of a cancelled complex pair
+  // are cancelled together since roots() makes them exact conjugates.
+  return TransferFunction(Polynomial::from_roots(zr, num_.leading()), Polynomial::from_roots(pr, 1.0), ts_);
+}
+
+TransferFunction operator*(const TransferFunction& a, const TransferFunction& b) {
+  require_same_ts(a.ts_, b.ts_, "series connection");
+  return TransferFunction(a.num_ * b.num_, a.den_ * b.den_, a.ts_);
+}
+
+TransferFunction operator+(const TransferFunction& a, const TransferFunction& b) {
+  require_same_ts(a.ts_, b.ts_, "parallel connection");
+  if (a.den_ == b.den_) return TransferFunction(a.num_ + b.num_, a.den_, a.ts_);
+  return TransferFunction(a.num_ * b.den_ + b.num_ * a.den_, a.den_ * b.den_, a.ts_);
+}
+
+TransferFunction operator-(const TransferFunction& a, const TransferFunction& b) { return a + (-b); }
+
+TransferFunction operator/(const TransferFunction& a, const TransferFunction& b) {
+  require_same_ts(a.ts_, b.ts_, "division");
+  if (b.num_.is_zero()) throw InputError("division by a zero transfer function");
+  return TransferFunction(a.num_ * b.den_, a.den_ * b.num_, a.ts_);
+}
+
+TransferFunction TransferFunction::operator-() const { return TransferFunction(-num_, den_, ts_); }
+
+TransferFunction TransferFunction::pow(int n) const {
+  if (n >= 0) return TransferFunction(num_.pow(n), den_.pow(n), ts_);
+  if (num_.is_zero()) throw InputError("negative power of a zero transfer function");
+  return TransferFunction(den_.pow(-n), num_.pow(-n), ts_);
+}
+
+TransferFunction feedback(const TransferFunction& g, const TransferFunction& h, int sign) {
+  require_same_ts(g.ts(), h.ts(), "feedback connection");
+  const Polynomial den = g.den() * h.den() - static_cast<double>(sign) * (g.num() * h.num());
+  if (den.trimmed(1e-14).is_zero())
+    throw InputError("algebraic loop: 1 - sign*G*H is identically zero, the feedback connection is ill-posed");
+  return TransferFunction(g.num() * h.den(), den, g.ts());
+}
+
+}  // namespace dmbd::blocks

@@ -1,0 +1,19 @@
+#pragma once
+// Internals shared by the viz sources (not installed, not part of the API).
+#include <vector>
+
+namespace dmbd::viz::detail {
+
+// 10^k, exact for |k| <= 22 (1/10^-k correctly rounded for negative k).
+double pow10(int k);
+
+// The 1-2-5 x 10^k step for splitting `range` (> 0) into at most max_intervals parts;
+// 0 when no finite step exists.
+double nice_step(double range, int max_intervals);
+
+// Multiples k*step within [lo, hi] (lo <= hi), with k*step computed so that values
+// such as 0.6 come out as the nearest double; at most max_count of them (empty if
+// more would be needed).
+std::vector<double> multiples_within(double lo, double hi, double step, int max_count);
+
+}  // namespace dmbd::viz::detail
