@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -154,7 +155,14 @@ json analyze(const b::TransferFunction& g, const AnalyzeRequest& req) {
     if (req.prewarp_hz > 0.0) j["prewarp_hz"] = req.prewarp_hz;
     j["num"] = gd.num().descending();
     j["den"] = gd.den().descending();
-    j["poles"] = roots_json(gd.poles());
+    // The images of the continuous poles: exact, and better conditioned than the roots
+    // of the discrete denominator.
+    std::vector<b::Complex> pd;
+    for (const b::Complex& p : g.poles()) pd.push_back(b::c2d_pole(p, req.c2d_ts, *req.c2d, req.prewarp_hz * kTwoPi));
+    std::sort(pd.begin(), pd.end(), [](const b::Complex& x, const b::Complex& y) {
+      return x.real() != y.real() ? x.real() < y.real() : x.imag() < y.imag();
+    });
+    j["poles"] = roots_json(pd);
     j["zeros"] = roots_json(gd.zeros());
     j["stable"] = gd.is_stable();
     r["discrete"] = j;

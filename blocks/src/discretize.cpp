@@ -56,6 +56,19 @@ const char* to_string(C2dMethod m) {
   return "?";
 }
 
+Complex c2d_pole(Complex s, double ts, C2dMethod method, double prewarp_rad_s) {
+  check_ts(ts);
+  switch (method) {
+    case C2dMethod::Zoh: return std::exp(s * ts);
+    case C2dMethod::Tustin: {
+      const double a = tustin_alpha(ts, prewarp_rad_s);
+      return (1.0 + a * s) / (1.0 - a * s);
+    }
+    case C2dMethod::BackwardEuler: return 1.0 / (1.0 - ts * s);
+  }
+  return s;
+}
+
 StateSpace c2d(const StateSpace& sys, double ts, C2dMethod method, double prewarp_rad_s) {
   check_ts(ts);
   if (sys.is_discrete()) throw InputError("c2d: the system is already discrete");

@@ -21,17 +21,6 @@ Matrix blkdiag(const Matrix& a, const Matrix& b) {
   return m;
 }
 
-// Coefficients (ascending) of prod (s - lambda_i), real by construction of conjugate pairs.
-Polynomial char_poly(const Matrix& a) {
-  if (a.rows() == 0) return Polynomial::constant(1.0);
-  const Vector d = balancing_scales(a);
-  const Matrix bal = d.cwiseInverse().asDiagonal() * a * d.asDiagonal();
-  Eigen::EigenSolver<Matrix> es(bal, false);
-  if (es.info() != Eigen::Success) throw InputError("eigenvalue computation did not converge");
-  std::vector<Complex> ev(es.eigenvalues().data(), es.eigenvalues().data() + es.eigenvalues().size());
-  return Polynomial::from_roots(ev, 1.0);
-}
-
 // Orthonormal basis of the Krylov space span[B, AB, A^2 B, ...].
 Matrix krylov_basis(const Matrix& a, const Matrix& b, double tol) {
   const int n = static_cast<int>(a.rows());
@@ -97,31 +86,50 @@ StateSpace StateSpace::from_tf(const TransferFunction& tf) {
 TransferFunction StateSpace::to_tf(int out, int in) const {
   if (out < 0 || out >= num_outputs() || in < 0 || in >= num_inputs())
     throw InputError("no channel from input " + std::to_string(in) + " to output " + std::to_string(out));
-  const Matrix bi = b_.col(in);
-  const Matrix co = c_.row(out);
-  const double d = d_(out, in);
   const int n = num_states();
-  const Polynomial den = char_poly(a_);
-  const Polynomial pz = char_poly(a_ - bi * co);
-  // C (sI-A)^-1 B = [det(sI-A+BC) - det(sI-A)] / det(sI-A)
-  Polynomial num = pz - den + d * den;
-  // The subtraction leaves rounding residue in place of coefficients that are exactly
-  // zero (relative degree > 1): drop leading ones that are negligible at the system's
-  // frequency scale, measured against the determinants' own size.
-  double w0 = 1.0;
-  if (n > 0) {
+  const double d = d_(out, in);
+  if (n == 0) return TransferFunction(d, ts_);
+  const std::vector<Complex> ev = poles();
+  const Polynomial den = Polynomial::from_roots(ev, 1.0);
+  // Numerator by interpolation: num(x_k) = G(x_k) * prod(x_k - lambda_i) at n+1 points
+  // on a circle, then an inverse DFT. Every value is computed to full relative
+  // precision (G by a linear solve, the determinant in product form), so the
+  // coefficients are accurate relative to the numerator's own size; the formula
+  // det(sI-A+BC) - det(sI-A) loses everything when the numerator is small against
+  // the denominator (e.g. ZOH of a slow high-order system).
+  double r = 1.0;
+  if (!is_discrete()) {
     double logsum = 0.0;
     int count = 0;
-    for (const Complex& p : poles())
+    for (const Complex& p : ev)
       if (std::abs(p) > 0.0) logsum += std::log(std::abs(p)), ++count;
-    if (count > 0) w0 = std::exp(logsum / count);
+    if (count > 0) r = std::exp(logsum / count);
   }
-  double size = 0.0;
-  for (int k = 0; k <= n; ++k)
-    size = std::max({size, std::abs(den[k]) * std::pow(w0, k), std::abs(pz[k]) * std::pow(w0, k)});
-  std::vector<double> c = num.coeffs();
-  while (!c.empty() && std::abs(c.back()) * std::pow(w0, static_cast<double>(c.size() - 1)) <= 1e-11 * size)
-    c.pop_back();
+  const int np = n + 1;
+  const double offset = 0.318309886;  // fraction of a step: keeps the points off real poles and z = 1
+  const Matrix bi = b_.col(in);
+  const Matrix co = c_.row(out);
+  std::vector<Complex> values(static_cast<size_t>(np));
+  double biggest = 0.0;
+  for (int k = 0; k < np; ++k) {
+    const Complex x = std::polar(r, 2.0 * M_PI * (k + offset) / np);
+    Eigen::MatrixXcd m = x * Eigen::MatrixXcd::Identity(n, n) - a_.cast<Complex>();
+    const Complex g = (co.cast<Complex>() * Eigen::PartialPivLU<Eigen::MatrixXcd>(m).solve(bi.cast<Complex>()))(0, 0) + d;
+    Complex det(1.0);
+    for (const Complex& l : ev) det *= x - l;
+    values[static_cast<size_t>(k)] = g * det;
+    biggest = std::max(biggest, std::abs(values[static_cast<size_t>(k)]));
+  }
+  std::vector<double> c(static_cast<size_t>(np));
+  for (int j = 0; j < np; ++j) {
+    Complex acc(0.0);
+    for (int k = 0; k < np; ++k) acc += values[static_cast<size_t>(k)] * std::polar(1.0, -2.0 * M_PI * j * (k + offset) / np);
+    c[static_cast<size_t>(j)] = acc.real() / np / std::pow(r, j);
+  }
+  // Coefficients at rounding level relative to the numerator's size on the circle are
+  // zeros (CB = 0 for a relative degree of 2, a zero at the origin): make them exact.
+  for (int j = 0; j < np; ++j)
+    if (std::abs(c[static_cast<size_t>(j)]) * std::pow(r, j) <= 1e-12 * biggest) c[static_cast<size_t>(j)] = 0.0;
   return TransferFunction(Polynomial(std::move(c)), den, ts_);
 }
 

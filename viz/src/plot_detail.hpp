@@ -11,6 +11,10 @@ double pow10(int k);
 // 0 when no finite step exists.
 double nice_step(double range, int max_intervals);
 
+// k * step, computed as (k * m) * 10^e when step is m * 10^e with integer m, so that
+// 11 * 0.1 gives 1.1 rather than 1.1000000000000001.
+double multiple_of(double k, double step);
+
 // Multiples k*step within [lo, hi] (lo <= hi), with k*step computed so that values
 // such as 0.6 come out as the nearest double; at most max_count of them (empty if
 // more would be needed).

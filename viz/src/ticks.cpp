@@ -38,6 +38,13 @@ std::pair<double, int> split_step(double step) {
 }
 }  // namespace
 
+double multiple_of(double k, double step) {
+  if (!(step > 0) || !std::isfinite(step)) return k * step;
+  const auto [m, e] = split_step(step);
+  const bool decimal = std::abs(scaled(m, e) - step) <= 1e-12 * step;
+  return (decimal ? scaled(k * m, e) : k * step) + 0.0;  // + 0.0 turns -0 into 0
+}
+
 double nice_step(double range, int max_intervals) {
   if (!(range > 0) || !std::isfinite(range)) return 0;
   const double raw = range / std::max(max_intervals, 1);
@@ -54,14 +61,11 @@ double nice_step(double range, int max_intervals) {
 std::vector<double> multiples_within(double lo, double hi, double step, int max_count) {
   std::vector<double> out;
   if (!(step > 0) || !std::isfinite(step) || !(lo <= hi)) return out;
-  // Values k * step; for 1-2-5 steps computed as (k * m) * 10^e, otherwise k * step.
-  const auto [m, e] = split_step(step);
-  const bool decimal = std::abs(scaled(m, e) - step) <= 1e-12 * step;
   const double k0 = std::ceil(lo / step - 1e-9);
   const double k1 = std::floor(hi / step + 1e-9);
   if (!std::isfinite(k0) || !std::isfinite(k1) || k1 - k0 + 1 > max_count) return out;
   for (double k = k0; k <= k1; k += 1) {
-    const double v = (decimal ? scaled(k * m, e) : k * step) + 0.0;  // + 0.0 turns -0 into 0
+    const double v = multiple_of(k, step);
     if (out.empty() || v > out.back()) out.push_back(v);
   }
   return out;

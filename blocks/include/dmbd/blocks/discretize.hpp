@@ -24,6 +24,11 @@ StateSpace c2d(const StateSpace& sys, double ts, C2dMethod method, double prewar
 // formulation of the state-space one), ZOH through the state space.
 TransferFunction c2d(const TransferFunction& sys, double ts, C2dMethod method, double prewarp_rad_s = 0.0);
 
+// Where a continuous pole s goes: e^{s ts} (ZOH), (1 + a s)/(1 - a s) (Tustin),
+// 1/(1 - ts s) (backward Euler). Mapping the continuous poles is exact and far better
+// conditioned than the roots of the discrete denominator when poles cluster near z = 1.
+Complex c2d_pole(Complex s, double ts, C2dMethod method, double prewarp_rad_s = 0.0);
+
 // The inverse maps: Tustin (poles at z = -1 are an InputError) and ZOH (matrix
 // logarithm; poles on the negative real axis or at 0 are an InputError).
 StateSpace d2c(const StateSpace& sys, C2dMethod method, double prewarp_rad_s = 0.0);
