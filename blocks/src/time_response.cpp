@@ -44,11 +44,14 @@ TimeResponse run(const StateSpace& sys, const Matrix& phi, const Matrix& gamma, 
   r.t.resize(static_cast<size_t>(samples));
   r.y.resize(samples, sys.num_outputs());
   Vector x = x0.size() ? x0 : Vector::Zero(sys.num_states());
-  Vector xn(x.size()), uk(u.cols());
+  // Preallocated work vectors: no heap allocation inside the loop.
+  Vector xn(x.size()), uk(u.cols()), yk(sys.num_outputs());
   for (Eigen::Index k = 0; k < samples; ++k) {
     r.t[static_cast<size_t>(k)] = static_cast<double>(k) * dt;
     uk = u.row(k).transpose();
-    r.y.row(k).noalias() = (sys.c() * x + sys.d() * uk).transpose();
+    yk.noalias() = sys.c() * x;
+    yk.noalias() += sys.d() * uk;
+    r.y.row(k) = yk.transpose();
     xn.noalias() = phi * x;
     xn.noalias() += gamma * uk;
     x.swap(xn);

@@ -1,20 +1,19 @@
 // Tests for dmbd::viz plots: tick placement and labels, automatic limits, what lands
 // where in a rendered image, and atomic PNG output.
-#include "dmbd/viz/plot.hpp"
-
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+#include "dmbd/viz/plot.hpp"
 
 namespace dmbd::viz {
 namespace {
@@ -126,8 +125,8 @@ TEST(NiceLimits, RoundWithSmallMargin) {
   EXPECT_GT(hi, 1);
   EXPECT_GE(lo, -0.15);  // margin at most 15% of the range each side
   EXPECT_LE(hi, 1.15);
-  EXPECT_NEAR(lo * 10, std::round(lo * 10), 1e-9);  // round to a tenth
-  EXPECT_NEAR(hi * 10, std::round(hi * 10), 1e-9);
+  EXPECT_NEAR(lo * 20, std::round(lo * 20), 1e-9);  // round to a twentieth
+  EXPECT_NEAR(hi * 20, std::round(hi * 20), 1e-9);
 
   const auto [flo, fhi] = nice_limits(0.6, 6000, Scale::Log);
   EXPECT_DOUBLE_EQ(flo, 0.1);
@@ -352,9 +351,8 @@ TEST(StepFigure, ResponseAndFinalValue) {
 class SavePng : public testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("dmbd_viz_test_" + std::to_string(::getpid()) + "_" +
-            testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("dmbd_viz_test_" + std::to_string(::getpid()) + "_" +
+                                        testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }

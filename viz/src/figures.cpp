@@ -1,12 +1,12 @@
 // Ready-made figures for `dmbd analyze`: Bode and step response.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "dmbd/viz/plot.hpp"
 
@@ -31,9 +31,10 @@ Figure bode_figure(const std::vector<double>& freq_hz, const std::vector<double>
                    const std::vector<double>& phase_deg, const std::string& title,
                    std::optional<double> gain_crossover_hz, std::optional<double> phase_crossover_hz) {
   if (mag_db.size() != freq_hz.size() || phase_deg.size() != freq_hz.size())
-    throw std::invalid_argument(fmt::format("viz: bode_figure needs one magnitude and one phase per frequency, got "
-                                            "{} frequencies, {} magnitudes, {} phases",
-                                            freq_hz.size(), mag_db.size(), phase_deg.size()));
+    throw std::invalid_argument(
+        fmt::format("viz: bode_figure needs one magnitude and one phase per frequency, got "
+                    "{} frequencies, {} magnitudes, {} phases",
+                    freq_hz.size(), mag_db.size(), phase_deg.size()));
   Figure fig(1000, 700);
   fig.title = title;
   fig.add_axes();
@@ -69,8 +70,8 @@ Figure bode_figure(const std::vector<double>& freq_hz, const std::vector<double>
     const double step = range <= 400 ? 45 : 90;
     const double unit = step / 3;
     phase.y_tick_step = step;
-    phase.y_limits = std::make_pair(std::floor((p.lo - 0.03 * range) / unit) * unit,
-                                    std::ceil((p.hi + 0.03 * range) / unit) * unit);
+    phase.y_limits =
+        std::make_pair(std::floor((p.lo - 0.03 * range) / unit) * unit, std::ceil((p.hi + 0.03 * range) / unit) * unit);
   }
 
   const auto add_crossover = [&](std::optional<double> hz, const char* name) {
@@ -104,7 +105,7 @@ Figure step_figure(const std::vector<double>& t_s, const std::vector<double>& y,
   const bool show_final = final_value && std::isfinite(*final_value);
   if (show_final) v.add(*final_value);
   if (!t.empty() && t.lo < t.hi) ax.x_limits = std::make_pair(t.lo, t.hi);  // time axis exactly as simulated
-  if (!v.empty()) ax.y_limits = nice_limits(v.lo, v.hi, Scale::Linear);   // keeps the final value in view
+  if (!v.empty()) ax.y_limits = nice_limits(v.lo, v.hi, Scale::Linear);     // keeps the final value in view
   if (show_final) {
     ax.h_lines = {*final_value};
     ax.h_line_labels = {"final value " + short_number(*final_value)};

@@ -1,13 +1,13 @@
 // PNG encoding and atomic file writes (temporary name, then rename).
+#include <fmt/format.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "dmbd/viz/plot.hpp"
 
@@ -19,7 +19,8 @@ std::vector<unsigned char> encode_png(const cv::Mat& image) {
   try {
     ok = !image.empty() && cv::imencode(".png", image, bytes);
   } catch (const cv::Exception& e) {
-    throw std::runtime_error(fmt::format("viz: cannot encode a {}x{} image as PNG: {}", image.cols, image.rows, e.what()));
+    throw std::runtime_error(
+        fmt::format("viz: cannot encode a {}x{} image as PNG: {}", image.cols, image.rows, e.what()));
   }
   if (!ok) throw std::runtime_error(fmt::format("viz: cannot encode a {}x{} image as PNG", image.cols, image.rows));
   return bytes;
@@ -29,7 +30,8 @@ void write_file_atomic(const std::string& path, const std::vector<unsigned char>
   const std::string tmp = path + ".tmp";
   std::FILE* file = std::fopen(tmp.c_str(), "wb");
   if (file == nullptr)
-    throw std::runtime_error(fmt::format("viz: cannot write '{}': cannot create '{}': {}", path, tmp, std::strerror(errno)));
+    throw std::runtime_error(
+        fmt::format("viz: cannot write '{}': cannot create '{}': {}", path, tmp, std::strerror(errno)));
   const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
   const int write_errno = errno;
   const bool closed = std::fclose(file) == 0;

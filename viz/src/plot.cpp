@@ -7,16 +7,16 @@
 // nothing spills over the axis box and huge values cannot overflow OpenCV's ints.
 #include "dmbd/viz/plot.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <fmt/format.h>
-#include <opencv2/imgproc.hpp>
 
 #include "plot_detail.hpp"
 
@@ -55,7 +55,10 @@ struct Style {
 
 Style make_style(int width_px, int height_px) {
   Style st;
-  st.s = std::clamp(std::min(width_px / 1000.0, height_px / 700.0), 0.4, 4.0);
+  // Linear above 1000 x 700 (the same look at a higher resolution); shrinking more
+  // slowly below it so that text in small figures stays legible.
+  const double relative = std::min(width_px / 1000.0, height_px / 700.0);
+  st.s = std::clamp(relative < 1 ? std::sqrt(relative) : relative, 0.4, 4.0);
   const int thin = std::max(1, round_px(st.s));
   st.tick = {cv::FONT_HERSHEY_SIMPLEX, 0.5 * st.s, thin};
   st.label = {cv::FONT_HERSHEY_SIMPLEX, 0.58 * st.s, thin};
@@ -130,12 +133,31 @@ void draw_text(cv::Mat& img, const std::string& text, double x, double y, HAlign
   draw_text(img, Label{text, {}}, x, y, h, v, f, color);
 }
 
+// A note over the data: text on a nearly opaque white patch.
+void draw_note(cv::Mat& img, const std::string& text, double x, double y, HAlign h, VAlign v, const Font& f,
+               const cv::Scalar& color) {
+  const TextBox b = measure(text, f);
+  double left = x, top = y;
+  if (h == HAlign::Center) left = x - b.w / 2.0;
+  if (h == HAlign::Right) left = x - b.w;
+  if (v == VAlign::Middle) top = y - b.base_ascent / 2.0;
+  if (v == VAlign::Bottom) top = y - b.ascent - b.descent;
+  const int pad = 2;
+  const cv::Rect patch =
+      cv::Rect(round_px(left) - pad, round_px(top) - pad, b.w + 2 * pad, b.ascent + b.descent + 2 * pad) &
+      cv::Rect(0, 0, img.cols, img.rows);
+  if (!patch.empty()) {
+    cv::Mat m = img(patch);
+    m.convertTo(m, -1, 0.2, 255 * 0.8);
+  }
+  draw_text(img, text, x, y, h, v, f, color);
+}
+
 // Text turned 90 degrees counter-clockwise (reading bottom to top), its left edge at
 // x_left and centred on y_center; shrunk to fit max_len_px. Rendered into a small
 // image, rotated, and combined with the figure by a per-channel minimum (dark text
 // on a white background).
-void draw_rotated_text(cv::Mat& img, const std::string& text, int x_left, int y_center, int max_len_px,
-                       Font f) {
+void draw_rotated_text(cv::Mat& img, const std::string& text, int x_left, int y_center, int max_len_px, Font f) {
   if (text.empty()) return;
   TextBox b = measure(text, f);
   if (b.w > max_len_px && max_len_px > 0) {
@@ -164,7 +186,8 @@ struct Dash {
 
 Dash dash_for(double width_px, double s) {
   const double w = std::max(1.0, width_px);
-  return {std::max(6.0 * s, 4.0 * w), std::max(4.0 * s, 2.5 * w), 0};
+  // Round caps eat about a width of every gap, hence the longer gaps.
+  return {std::max(6.0 * s, 4.0 * w), std::max(5.0 * s, 3.0 * w + 1), 0};
 }
 
 cv::Point to_fixed(const cv::Point2d& p) { return {round_px(p.x * kSub), round_px(p.y * kSub)}; }
@@ -252,8 +275,8 @@ bool usable(double v, Scale scale) { return std::isfinite(v) && (scale == Scale:
 
 void check_series(const Series& s) {
   if (s.x.size() != s.y.size())
-    throw std::invalid_argument(fmt::format("viz: series '{}' has {} x values but {} y values", s.label,
-                                            s.x.size(), s.y.size()));
+    throw std::invalid_argument(
+        fmt::format("viz: series '{}' has {} x values but {} y values", s.label, s.x.size(), s.y.size()));
 }
 
 // Extent of the points whose x and y are both drawable on the axes' scales.
@@ -276,8 +299,7 @@ AxisScale resolve_scale(const std::optional<std::pair<double, double>>& limits, 
   if (limits) {
     const auto [lo, hi] = *limits;
     if (!std::isfinite(lo) || !std::isfinite(hi) || lo == hi)
-      throw std::invalid_argument(
-          fmt::format("viz: {} limits ({}, {}) must be finite and different", which, lo, hi));
+      throw std::invalid_argument(fmt::format("viz: {} limits ({}, {}) must be finite and different", which, lo, hi));
     if (a.log && (lo <= 0 || hi <= 0))
       throw std::invalid_argument(fmt::format("viz: {} limits ({}, {}) must be positive on a log axis", which, lo, hi));
     a.lo = lo;
@@ -302,11 +324,19 @@ bool contains_close(const std::vector<double>& v, double x) {
   return std::any_of(v.begin(), v.end(), [x](double y) { return std::abs(x - y) <= 1e-9 * std::abs(x); });
 }
 
-Label log_label(double v) {
+// Decades as 10^k when the axis reaches beyond 1e-3 .. 1e4, else as plain numbers.
+Label log_label(double v, bool powers) {
   const int k = round_px(std::log10(v));
   const bool decade = std::abs(v - detail::pow10(k)) <= 1e-9 * v;
-  if (decade && (k < -3 || k > 4)) return {"10", std::to_string(k)};
+  if (decade && powers) return {"10", std::to_string(k)};
   return {format_tick(v), {}};
+}
+
+// Smallest of 1, 2, 3, 4, 5, 10, 20, 25, 50, ... >= n (a double axis spans at most ~630 decades).
+int nice_stride(double n) {
+  for (int m : {1, 2, 3, 4, 5, 10, 20, 25, 50, 100, 200, 250, 500})
+    if (m >= n) return m;
+  return 1000;
 }
 
 Ticks linear_ticks(const AxisScale& a, std::optional<double> step, int max_ticks) {
@@ -338,11 +368,12 @@ Ticks log_axis_ticks(const AxisScale& a, int max_ticks, double length_px, double
       }
   };
   if (decades.size() >= 2) {
-    const int stride = std::max(1, static_cast<int>(std::ceil(decades.size() / static_cast<double>(max_ticks))));
+    const int stride = nice_stride(decades.size() / static_cast<double>(max_ticks));
     for (double v : decades) {
       const int k = round_px(std::log10(v));
       (((k % stride) + stride) % stride == 0 ? t.major : t.minor).push_back(v);
     }
+    if (stride > 1 && decade_px < min_minor_decade_px / 5) t.minor.clear();  // would be a grey wash
     if (stride == 1 && decade_px >= min_minor_decade_px) add_minor(false);
   } else {
     // Less than two decades in view: 1-2-5 ticks, else plain round numbers.
@@ -358,7 +389,9 @@ Ticks log_axis_ticks(const AxisScale& a, int max_ticks, double length_px, double
     }
     add_minor(true);
   }
-  for (double v : t.major) t.labels.push_back(log_label(v));
+  const bool powers =
+      std::any_of(t.major.begin(), t.major.end(), [](double v) { return v < 1e-3 || v > 1e4 * 1.000001; });
+  for (double v : t.major) t.labels.push_back(log_label(v, powers));
   return t;
 }
 
@@ -418,7 +451,7 @@ Layout compute_layout(int width_px, int height_px, const std::string& title, con
     al.plot.y = top + i * slot + top_pad;
     al.plot.height = std::max(8, slot - top_pad - bottom_pad);
 
-    const int max_y_ticks = std::clamp(al.plot.height / (tick_h * 5 / 2), 2, 9);
+    const int max_y_ticks = std::clamp(al.plot.height * 5 / (14 * tick_ascent), 2, 8);  // 2.8 digit heights apart
     al.y_ticks = al.y.log ? log_axis_ticks(al.y, max_y_ticks, al.plot.height, 20 * st.s)
                           : linear_ticks(al.y, ax.y_tick_step, max_y_ticks);
     for (const Label& l : al.y_ticks.labels) widest_y_label = std::max(widest_y_label, measure(l, st.tick).w);
@@ -435,15 +468,17 @@ Layout compute_layout(int width_px, int height_px, const std::string& title, con
     AxesLayout& al = L.axes[i];
     al.plot.x = left;
     al.plot.width = plot_w;
+    al.plot &= cv::Rect(0, 0, width_px, height_px);  // only matters for absurdly crowded figures
     // As many ticks as fit with their labels at least a gap apart.
     for (int max_x = std::clamp(static_cast<int>(plot_w / (80 * st.s)), 2, 11); max_x >= 2; --max_x) {
-      al.x_ticks = al.x.log ? log_axis_ticks(al.x, max_x, plot_w, 25 * st.s)
-                            : linear_ticks(al.x, ax.x_tick_step, max_x);
+      al.x_ticks =
+          al.x.log ? log_axis_ticks(al.x, max_x, plot_w, 25 * st.s) : linear_ticks(al.x, ax.x_tick_step, max_x);
       const auto& ticks = al.x_ticks.major;
       bool fits = true;
       for (std::size_t k = 1; k < ticks.size() && fits; ++k) {
         const double dx = std::abs(al.x.fraction(ticks[k]) - al.x.fraction(ticks[k - 1])) * (plot_w - 1);
-        const double need = (measure(al.x_ticks.labels[k], st.tick).w + measure(al.x_ticks.labels[k - 1], st.tick).w) / 2.0 + st.gap;
+        const double need =
+            (measure(al.x_ticks.labels[k], st.tick).w + measure(al.x_ticks.labels[k - 1], st.tick).w) / 2.0 + st.gap;
         fits = dx >= need;
       }
       if (fits) break;
@@ -455,26 +490,38 @@ Layout compute_layout(int width_px, int height_px, const std::string& title, con
 // ---------------------------------------------------------------------------
 // Drawing
 
-void draw_legend(cv::Mat& img, const Axes& ax, const cv::Rect& plot, const std::vector<cv::Scalar>& colors,
-                 const Style& st) {
+struct LegendLayout {
+  cv::Rect box;  // in figure pixels; empty: no legend
   std::vector<std::size_t> entries;
+  int pad = 0, sample_w = 0, row_h = 0;
+};
+
+// Box in the top-right corner of the plot area, one row per labelled series.
+LegendLayout legend_layout(const Axes& ax, const cv::Rect& plot, const Style& st) {
+  LegendLayout g;
   for (std::size_t i = 0; i < ax.series.size(); ++i)
-    if (!ax.series[i].label.empty()) entries.push_back(i);
-  if (!ax.legend || entries.empty()) return;
-
-  const Font& f = st.tick;
-  const int pad = std::max(3, st.gap * 2 / 3);
-  const int sample_w = round_px(30 * st.s);
-  const int row_h = text_height(f) + pad;
+    if (!ax.series[i].label.empty()) g.entries.push_back(i);
+  if (!ax.legend || g.entries.empty()) return g;
+  g.pad = std::max(3, st.gap * 2 / 3);
+  g.sample_w = round_px(30 * st.s);
+  g.row_h = text_height(st.tick) + g.pad;
   int text_w = 0;
-  for (std::size_t i : entries) text_w = std::max(text_w, measure(ax.series[i].label, f).w);
-  const int box_w = pad + sample_w + pad + text_w + pad;
-  const int box_h = pad / 2 + static_cast<int>(entries.size()) * row_h + pad / 2;
-  cv::Rect box(plot.x + plot.width - st.gap - box_w, plot.y + st.gap, box_w, box_h);
-  box.x = std::max(box.x, plot.x + 1);
-  box &= cv::Rect(plot.x + 1, plot.y + 1, plot.width - 2, plot.height - 2);
-  if (box.empty()) return;
+  for (std::size_t i : g.entries) text_w = std::max(text_w, measure(ax.series[i].label, st.tick).w);
+  const int box_w = g.pad + g.sample_w + g.pad + text_w + g.pad;
+  const int box_h = g.pad / 2 + static_cast<int>(g.entries.size()) * g.row_h + g.pad / 2;
+  g.box = cv::Rect(plot.x + plot.width - st.gap - box_w, plot.y + st.gap, box_w, box_h);
+  g.box.x = std::max(g.box.x, plot.x + 1);
+  g.box &= cv::Rect(plot.x + 1, plot.y + 1, plot.width - 2, plot.height - 2);
+  return g;
+}
 
+void draw_legend(cv::Mat& img, const Axes& ax, const LegendLayout& g, const std::vector<cv::Scalar>& colors,
+                 const Style& st) {
+  if (g.box.empty()) return;
+  const Font& f = st.tick;
+  const int pad = g.pad, sample_w = g.sample_w, row_h = g.row_h;
+  const auto& entries = g.entries;
+  const cv::Rect& box = g.box;
   cv::Mat area = img(box);
   area.convertTo(area, -1, 0.12, 255 * 0.88);  // nearly opaque white
   cv::rectangle(img, box, kLegendBorder, 1, cv::LINE_8);
@@ -484,8 +531,8 @@ void draw_legend(cv::Mat& img, const Axes& ax, const cv::Rect& plot, const std::
     const double cy = pad / 2 + r * row_h + row_h / 2.0;
     const int thick = std::max(1, round_px(s.width_px));
     Dash dash = s.dashed ? dash_for(s.width_px, st.s) : Dash{};
-    draw_segment(inner, {static_cast<double>(pad), cy}, {static_cast<double>(pad + sample_w), cy},
-                 colors[entries[r]], thick, dash);
+    draw_segment(inner, {static_cast<double>(pad), cy}, {static_cast<double>(pad + sample_w), cy}, colors[entries[r]],
+                 thick, dash);
     if (s.markers)
       cv::circle(inner, to_fixed({pad + sample_w / 2.0, cy}), round_px((thick + 2.5) * kSub), colors[entries[r]],
                  cv::FILLED, cv::LINE_AA, kShift);
@@ -533,9 +580,10 @@ void draw_series(cv::Mat& area, const Series& s, const cv::Scalar& color, const 
 void draw_axes(cv::Mat& img, const Axes& ax, const AxesLayout& al, const Layout& L) {
   const Style& st = L.style;
   const cv::Rect& r = al.plot;
+  if (r.width < 2 || r.height < 2) return;  // no room at all
   cv::Mat area = img(r);
   const double sx = r.width - 1, sy = r.height - 1;
-  const auto col_of = [&](double v) { return al.x.fraction(v) * sx; };      // relative to r.x
+  const auto col_of = [&](double v) { return al.x.fraction(v) * sx; };        // relative to r.x
   const auto row_of = [&](double v) { return (1 - al.y.fraction(v)) * sy; };  // relative to r.y
   const auto inside = [](double p, double extent) { return std::isfinite(p) && p >= -0.5 && p <= extent + 0.5; };
 
@@ -565,12 +613,24 @@ void draw_axes(cv::Mat& img, const Axes& ax, const AxesLayout& al, const Layout&
     if (inside(p, sx)) draw_segment(area, {p, 0}, {p, sy}, kRefColor, 1, dash);
   }
 
-  // Series.
+  // Series; with notes to place, the pixels they change are remembered.
+  const bool has_notes =
+      std::any_of(ax.h_line_labels.begin(), ax.h_line_labels.end(), [](const std::string& t) { return !t.empty(); }) ||
+      std::any_of(ax.v_line_labels.begin(), ax.v_line_labels.end(), [](const std::string& t) { return !t.empty(); });
+  const cv::Mat before_series = has_notes ? area.clone() : cv::Mat();
   std::vector<cv::Scalar> colors;
   for (std::size_t i = 0; i < ax.series.size(); ++i) {
     const Color c = ax.series[i].color;
     colors.push_back(bgr(c.r == 0 && c.g == 0 && c.b == 0 ? palette_color(i) : c));
     draw_series(area, ax.series[i], colors.back(), al.x, al.y, st.s);
+  }
+
+  cv::Mat series_ink;  // non-zero where a series was drawn
+  if (has_notes) {
+    cv::Mat diff;
+    cv::absdiff(area, before_series, diff);
+    cv::inRange(diff, cv::Scalar::all(0), cv::Scalar::all(8), series_ink);
+    cv::bitwise_not(series_ink, series_ink);
   }
 
   // Box and outward ticks.
@@ -580,11 +640,15 @@ void draw_axes(cv::Mat& img, const Axes& ax, const AxesLayout& al, const Layout&
   const int left = r.x - st.box_thick;
   const auto x_tick = [&](double v, int len) {
     const double p = col_of(v);
-    if (inside(p, sx)) cv::line(img, {r.x + round_px(p), bottom}, {r.x + round_px(p), bottom + len - 1}, kAxisColor, st.box_thick, cv::LINE_8);
+    if (inside(p, sx))
+      cv::line(img, {r.x + round_px(p), bottom}, {r.x + round_px(p), bottom + len - 1}, kAxisColor, st.box_thick,
+               cv::LINE_8);
   };
   const auto y_tick = [&](double v, int len) {
     const double p = row_of(v);
-    if (inside(p, sy)) cv::line(img, {left - len + 1, r.y + round_px(p)}, {left, r.y + round_px(p)}, kAxisColor, st.box_thick, cv::LINE_8);
+    if (inside(p, sy))
+      cv::line(img, {left - len + 1, r.y + round_px(p)}, {left, r.y + round_px(p)}, kAxisColor, st.box_thick,
+               cv::LINE_8);
   };
   for (double v : al.x_ticks.major) x_tick(v, st.tick_len);
   for (double v : al.y_ticks.major) y_tick(v, st.tick_len);
@@ -618,28 +682,69 @@ void draw_axes(cv::Mat& img, const Axes& ax, const AxesLayout& al, const Layout&
     draw_text(img, ax.title, r.x + r.width / 2.0, r.y - st.gap / 2 - st.box_thick, HAlign::Center, VAlign::Bottom,
               st.title, kText);
 
-  // Reference-line notes.
+  // Reference-line notes, placed where they hide no data: candidate spots in order
+  // of preference, the first that covers no series pixel and no other note, legend or
+  // reference line wins (else the one covering the fewest series pixels).
+  const LegendLayout legend = legend_layout(ax, r, st);
+  std::vector<cv::Rect> blocked;
+  if (!legend.box.empty()) blocked.push_back(legend.box - r.tl());
+  std::vector<std::pair<cv::Rect, std::size_t>> ref_rects;  // thin boxes around reference lines
+  for (std::size_t k = 0; k < ax.h_lines.size(); ++k)
+    ref_rects.push_back({cv::Rect(0, round_px(row_of(ax.h_lines[k])) - 1, r.width, 3), k});
+  for (std::size_t k = 0; k < ax.v_lines.size(); ++k)
+    ref_rects.push_back({cv::Rect(round_px(col_of(ax.v_lines[k])) - 1, 0, 3, r.height), ax.h_lines.size() + k});
+  const int note_pad = 2;
+  const auto place_note = [&](const std::string& text, const std::vector<cv::Point2d>& spots, std::size_t own) {
+    const TextBox b = measure(text, st.note);
+    const cv::Rect bounds(0, 0, r.width, r.height);
+    int best = -1, best_cost = std::numeric_limits<int>::max();
+    for (std::size_t i = 0; i < spots.size() && best_cost > 0; ++i) {
+      const cv::Rect box(round_px(spots[i].x) - note_pad, round_px(spots[i].y) - note_pad, b.w + 2 * note_pad,
+                         b.ascent + b.descent + 2 * note_pad);
+      if ((box & bounds) != box) continue;
+      const auto hits = [&box](const cv::Rect& o) { return !(box & o).empty(); };
+      if (std::any_of(blocked.begin(), blocked.end(), hits)) continue;
+      if (std::any_of(ref_rects.begin(), ref_rects.end(),
+                      [&](const auto& ref) { return ref.second != own && hits(ref.first); }))
+        continue;
+      const int cost = series_ink.empty() ? 0 : cv::countNonZero(series_ink(box));
+      if (cost < best_cost) {
+        best = static_cast<int>(i);
+        best_cost = cost;
+      }
+    }
+    const cv::Point2d at = best >= 0 ? spots[best] : spots.front();
+    blocked.emplace_back(round_px(at.x) - note_pad - st.gap / 2, round_px(at.y) - note_pad - st.gap / 4,
+                         b.w + 2 * note_pad + st.gap, b.ascent + b.descent + 2 * note_pad + st.gap / 2);
+    draw_note(area, text, at.x, at.y, HAlign::Left, VAlign::Top, st.note, kNoteColor);
+  };
+  const double note_w_pad = st.gap / 2.0;
   const int note_h = text_height(st.note);
   for (std::size_t k = 0; k < ax.h_lines.size() && k < ax.h_line_labels.size(); ++k) {
     const double p = row_of(ax.h_lines[k]);
     if (ax.h_line_labels[k].empty() || !inside(p, sy)) continue;
-    // Above the line at the right end, or below it when there is no room above.
-    const bool above = p >= note_h + st.gap / 2;
-    draw_text(area, ax.h_line_labels[k], sx - st.gap / 2, above ? p - st.gap / 3 : p + st.gap / 3, HAlign::Right,
-              above ? VAlign::Bottom : VAlign::Top, st.note, kNoteColor);
+    // Above or below the line, at the right end, then at the left end.
+    const double w = measure(ax.h_line_labels[k], st.note).w;
+    const double above = p - st.gap / 2.0 - note_h, below = p + st.gap / 2.0;
+    const double right = sx - note_w_pad - w, left = note_w_pad;
+    place_note(ax.h_line_labels[k], {{right, above}, {right, below}, {left, above}, {left, below}}, k);
   }
   for (std::size_t k = 0; k < ax.v_lines.size() && k < ax.v_line_labels.size(); ++k) {
     const double p = col_of(ax.v_lines[k]);
     if (ax.v_line_labels[k].empty() || !inside(p, sx)) continue;
-    // Beside the line near the top, one row further down per line so that notes of
-    // nearby lines do not overlap; on the left when there is no room on the right.
-    const int w = measure(ax.v_line_labels[k], st.note).w;
-    const bool right = p + st.gap / 2 + w <= sx - st.gap / 2;
-    draw_text(area, ax.v_line_labels[k], right ? p + st.gap / 2 : p - st.gap / 2, st.gap / 2 + k * (note_h + 2),
-              right ? HAlign::Left : HAlign::Right, VAlign::Top, st.note, kNoteColor);
+    // Beside the line (right, then left), near the top row by row, then near the bottom.
+    const double w = measure(ax.v_line_labels[k], st.note).w;
+    const double step = note_h + 2 * note_pad + 2;
+    std::vector<cv::Point2d> spots;
+    for (int row = 0; row < 4; ++row)
+      for (double x : {p + note_w_pad, p - note_w_pad - w}) spots.emplace_back(x, st.gap / 2.0 + row * step);
+    for (int row = 0; row < 4; ++row)
+      for (double x : {p + note_w_pad, p - note_w_pad - w})
+        spots.emplace_back(x, sy - st.gap / 2.0 - note_h - row * step);
+    place_note(ax.v_line_labels[k], spots, ax.h_lines.size() + k);
   }
 
-  draw_legend(img, ax, r, colors, st);
+  draw_legend(img, ax, legend, colors, st);
 }
 
 }  // namespace
@@ -649,8 +754,7 @@ std::pair<double, double> nice_limits(double lo, double hi, Scale scale) {
     throw std::invalid_argument(fmt::format("viz: cannot choose limits for data from {} to {}", lo, hi));
   if (lo > hi) std::swap(lo, hi);
   if (scale == Scale::Log) {
-    if (!(lo > 0))
-      throw std::invalid_argument(fmt::format("viz: log-axis limits need positive data, got {}", lo));
+    if (!(lo > 0)) throw std::invalid_argument(fmt::format("viz: log-axis limits need positive data, got {}", lo));
     int k0 = static_cast<int>(std::floor(std::log10(lo) + 1e-9));
     int k1 = static_cast<int>(std::ceil(std::log10(hi) - 1e-9));
     if (k1 <= k0) {
@@ -666,7 +770,7 @@ std::pair<double, double> nice_limits(double lo, double hi, Scale scale) {
   }
   const double range = hi - lo;
   const double padded_lo = lo - 0.03 * range, padded_hi = hi + 0.03 * range;
-  const double step = detail::nice_step(padded_hi - padded_lo, 19);
+  const double step = detail::nice_step(padded_hi - padded_lo, 39);
   if (step == 0) return {padded_lo, padded_hi};
   return {detail::multiple_of(std::floor(padded_lo / step), step),
           detail::multiple_of(std::ceil(padded_hi / step), step)};

@@ -1,11 +1,17 @@
 #pragma once
 // Internals shared by the viz sources (not installed, not part of the API).
+#include <utility>
 #include <vector>
 
 namespace dmbd::viz::detail {
 
 // 10^k, exact for |k| <= 22 (1/10^-k correctly rounded for negative k).
 double pow10(int k);
+
+// m * 10^e for integer-valued m, rounded once (3 * 0.2 -> 0.6, not 0.6000000000000001).
+double scaled(double m, int e);
+// A 1-2-5 step as mantissa (1, 2 or 5) and exponent.
+std::pair<double, int> split_step(double step);
 
 // The 1-2-5 x 10^k step for splitting `range` (> 0) into at most max_intervals parts;
 // 0 when no finite step exists.

@@ -1,12 +1,12 @@
 // Tick placement and tick-label formatting.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "dmbd/viz/plot.hpp"
 #include "plot_detail.hpp"
@@ -15,15 +15,13 @@ namespace dmbd::viz {
 namespace detail {
 
 double pow10(int k) {
-  static constexpr double kExact[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                      1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                      1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  static constexpr double kExact[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                      1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
   if (k >= 0 && k <= 22) return kExact[k];
   if (k < 0 && k >= -22) return 1.0 / kExact[-k];
   return std::pow(10.0, k);
 }
 
-namespace {
 // m * 10^e for integer-valued m, rounded once (so 3 * 0.2 -> 0.6, not 0.6000000000000001).
 double scaled(double m, int e) { return e >= 0 ? m * pow10(e) : m / pow10(-e); }
 // Decomposes a 1-2-5 step into mantissa and exponent.
@@ -36,7 +34,6 @@ std::pair<double, int> split_step(double step) {
   }
   return {m, e};
 }
-}  // namespace
 
 double multiple_of(double k, double step) {
   if (!(step > 0) || !std::isfinite(step)) return k * step;
@@ -80,6 +77,14 @@ std::vector<double> nice_ticks(double lo, double hi, int max_ticks) {
   max_ticks = std::max(max_ticks, 2);
   double step = detail::nice_step(hi - lo, max_ticks - 1);
   if (step == 0) return {lo, hi};
+  // That step always fits; the next smaller one may too when the ends fall between
+  // ticks ([-0.1, 3.1] with 4 ticks: 0, 1, 2, 3 rather than 0, 2).
+  {
+    const auto [m, e] = detail::split_step(step);
+    const double smaller = m == 1 ? detail::scaled(5, e - 1) : detail::scaled(m == 2 ? 1 : 2, e);
+    auto ticks = detail::multiples_within(lo, hi, smaller, max_ticks);
+    if (ticks.size() >= 2) return ticks;
+  }
   // The smallest 1-2-5 step >= range / intervals gives at most max_ticks ticks; the
   // loop only guards against rounding at the ends.
   for (int guard = 0; guard < 4; ++guard) {
@@ -132,9 +137,8 @@ std::string format_tick(double value) {
 
 Color palette_color(std::size_t index) {
   // matplotlib's tab10.
-  static constexpr Color kTab10[] = {{31, 119, 180}, {255, 127, 14}, {44, 160, 44},   {214, 39, 40},
-                                     {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {127, 127, 127},
-                                     {188, 189, 34},  {23, 190, 207}};
+  static constexpr Color kTab10[] = {{31, 119, 180}, {255, 127, 14},  {44, 160, 44},   {214, 39, 40},  {148, 103, 189},
+                                     {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
   return kTab10[index % 10];
 }
 

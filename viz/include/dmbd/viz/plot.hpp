@@ -14,12 +14,11 @@
 // `save_png()` writes "<path>.tmp" and renames it, so an interrupted run never
 // leaves a half-written PNG.
 #include <cstddef>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace dmbd::viz {
 
@@ -122,7 +121,7 @@ std::string format_tick(double value);
 // Additions.
 // The automatic limits render() uses for data spanning [lo, hi] (lo <= hi, finite;
 // positive on a log scale): on a linear scale the range padded by 3% and rounded
-// outward to a round step of about a twentieth of it ([0, 1] -> [-0.1, 1.1]), a
+// outward to a round step of about a fortieth of it ([0, 1] -> [-0.05, 1.05]), a
 // single value widened by 10% of itself (or by 1 if it is 0); on a log scale whole
 // decades (a single decade value widened by one decade each way).
 std::pair<double, double> nice_limits(double lo, double hi, Scale scale);
