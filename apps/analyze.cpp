@@ -173,10 +173,12 @@ json analyze(const b::TransferFunction& g, const AnalyzeRequest& req) {
 void write_plots(const b::TransferFunction& g, const json& r, const AnalyzeRequest& req) {
   const std::string title = req.title.empty() ? "G" : req.title;
   if (!req.bode_png.empty()) {
+    // A dense grid: over the requested frequencies' span when they span one, else two
+    // decades beyond the poles and zeros.
     std::vector<double> w = b::default_frequency_grid(g, 600);
-    if (!req.freq_hz.empty() && req.freq_hz.size() >= 2) {
-      w.clear();
-      for (double f : req.freq_hz) w.push_back(f * kTwoPi);
+    if (!req.freq_hz.empty()) {
+      const auto [lo, hi] = std::minmax_element(req.freq_hz.begin(), req.freq_hz.end());
+      if (*hi > *lo) w = b::logspace(*lo * kTwoPi, *hi * kTwoPi, 600);
     }
     const b::Bode bd = b::bode(g, w);
     std::vector<double> f(w.size());
