@@ -1,19 +1,22 @@
 // Tests for dmbd::viz plots: tick placement and labels, automatic limits, what lands
 // where in a rendered image, and atomic PNG output.
-#include <gtest/gtest.h>
+#include "dmbd/viz/plot.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <limits>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "dmbd/viz/plot.hpp"
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace dmbd::viz {
 namespace {

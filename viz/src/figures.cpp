@@ -1,12 +1,12 @@
 // Ready-made figures for `dmbd analyze`: Bode and step response.
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "dmbd/viz/plot.hpp"
 

@@ -1,13 +1,13 @@
 // PNG encoding and atomic file writes (temporary name, then rename).
-#include <fmt/format.h>
-
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "dmbd/viz/plot.hpp"
 

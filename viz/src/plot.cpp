@@ -7,16 +7,16 @@
 // nothing spills over the axis box and huge values cannot overflow OpenCV's ints.
 #include "dmbd/viz/plot.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
 
 #include "plot_detail.hpp"
 

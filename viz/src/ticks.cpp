@@ -1,12 +1,12 @@
 // Tick placement and tick-label formatting.
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "dmbd/viz/plot.hpp"
 #include "plot_detail.hpp"

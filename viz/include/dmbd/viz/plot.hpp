@@ -14,11 +14,12 @@
 // `save_png()` writes "<path>.tmp" and renames it, so an interrupted run never
 // leaves a half-written PNG.
 #include <cstddef>
-#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <opencv2/core.hpp>
 
 namespace dmbd::viz {
 
@@ -49,9 +50,10 @@ struct Axes {
   bool legend = true;
 
   // Additions.
-  // Optional text drawn beside the reference line of the same index (empty or
-  // missing: no text). h-line text sits above the line at the right end, v-line
-  // text near the top of the plot beside the line.
+  // Optional text beside the reference line of the same index (empty or missing:
+  // none), put where it hides no series, other note, line or the legend if it can:
+  // h-line text above or below the line at its right, else left, end; v-line text
+  // right or left of the line near the top, else near the bottom.
   std::vector<std::string> h_line_labels, v_line_labels;
   // Linear axes only: major ticks at multiples of this step (doubled until they fit)
   // instead of the automatic 1-2-5 steps; e.g. 45 for a phase axis in degrees.
@@ -107,8 +109,9 @@ Figure bode_figure(const std::vector<double>& freq_hz, const std::vector<double>
 Figure step_figure(const std::vector<double>& t_s, const std::vector<double>& y, const std::string& title,
                    std::optional<double> final_value = {}, const std::string& y_label = "Output");
 
-// Round numbers 1, 2, 5 x 10^k within [lo, hi]: at most max(max_ticks, 2) of them,
-// the largest such step that fits, strictly increasing. {lo} when lo == hi; empty
+// Round numbers: the multiples of a 1, 2 or 5 x 10^k step within [lo, hi], strictly
+// increasing, with the finest such step that gives at most max(max_ticks, 2) of them
+// (nice_ticks(0, 1, 6) == {0, 0.2, 0.4, 0.6, 0.8, 1}). {lo} when lo == hi; empty
 // when either bound is not finite.
 std::vector<double> nice_ticks(double lo, double hi, int max_ticks);
 // Decades (10^k) within [lo, hi], lo > 0 (empty otherwise).
