@@ -1,6 +1,8 @@
 // The `dmbd` command line.
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -10,6 +12,8 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/frequency.hpp"
+#include "dmbd/diagrams/diagram.hpp"
+#include "dmbd/diagrams/linearize.hpp"
 #include "dmbd/version.hpp"
 
 namespace {
@@ -49,6 +53,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
 }
 
 struct AnalyzeArgs {
+  std::string diagram, from, to, loop_at, sweep;
   std::string tf;
   std::vector<std::string> params;
   bool json = false;
@@ -70,28 +75,64 @@ int run_analyze(const AnalyzeArgs& a) {
   }
 
   dmbd::apps::AnalyzeRequest req;
+  if (a.diagram.empty() == a.tf.empty())
+    throw InputError(a.tf.empty() ? "give a diagram file or --tf EXPR" : "give either a diagram file or --tf, not both");
   double ts = 0.0;
   if (!a.ts.empty()) {
     ts = parse_number(a.ts, "--ts", params);
     if (!(ts > 0.0) || !std::isfinite(ts)) throw InputError("--ts '" + a.ts + "': the sample time must be > 0 s");
   }
-  const b::Expression expr = [&] {
+  bool discrete = false;
+  std::optional<b::TransferFunction> tf;
+  std::shared_ptr<const dmbd::diagrams::Diagram> diagram;
+  bool internally_stable = true;
+  int states = 0;
+  if (!a.tf.empty()) {
+    if (!a.from.empty() || !a.to.empty() || !a.loop_at.empty() || !a.sweep.empty())
+      throw InputError("--from, --to, --loop-at and --sweep apply to a diagram, not to --tf");
+    const b::Expression expr = [&] {
+      try {
+        return b::Expression::parse(a.tf);
+      } catch (const b::ExpressionError& e) {
+        throw InputError("--tf '" + a.tf + "': " + e.what());
+      }
+    }();
+    discrete = expr.uses('z');
+    if (discrete && expr.uses('s')) throw InputError("--tf '" + a.tf + "': uses both s and z");
+    if (discrete && ts == 0.0) throw InputError("--tf '" + a.tf + "': an expression in z needs --ts SECONDS");
+    if (!a.ts.empty() && !discrete && a.c2d.empty())
+      throw InputError("--ts is used with --c2d or with an expression in z");
     try {
-      return b::Expression::parse(a.tf);
+      tf = b::TransferFunction::parse(a.tf, params, discrete ? ts : 0.0);
     } catch (const b::ExpressionError& e) {
       throw InputError("--tf '" + a.tf + "': " + e.what());
+    } catch (const InputError& e) {
+      throw InputError("--tf '" + a.tf + "': " + e.what());
     }
-  }();
-  const bool discrete = expr.uses('z');
-  if (discrete && expr.uses('s')) throw InputError("--tf '" + a.tf + "': uses both s and z");
-  if (discrete && ts == 0.0) throw InputError("--tf '" + a.tf + "': an expression in z needs --ts SECONDS");
-  if (discrete && !a.c2d.empty()) throw InputError("--c2d: the expression is already discrete (in z)");
+    req.title = a.tf;
+  } else {
+    if (a.loop_at.empty() && (a.from.empty() || a.to.empty()))
+      throw InputError("a diagram needs --from SIGNAL and --to SIGNAL (or --loop-at SIGNAL)");
+    if (!a.loop_at.empty() && (!a.from.empty() || !a.to.empty()))
+      throw InputError("give either --loop-at or --from/--to");
+    diagram = dmbd::diagrams::Diagram::load(a.diagram, params);
+    discrete = diagram->is_discrete();
+    if (!a.ts.empty() && a.c2d.empty()) throw InputError("--ts is used with --c2d");
+    const b::StateSpace ss = a.loop_at.empty() ? dmbd::diagrams::linearize(*diagram, a.from, a.to)
+                                               : dmbd::diagrams::loop_transfer(*diagram, a.loop_at);
+    if (ss.num_inputs() != 1 || ss.num_outputs() != 1)
+      throw InputError("analysis needs scalar signals: the model has " + std::to_string(ss.num_inputs()) + " inputs and " +
+                       std::to_string(ss.num_outputs()) + " outputs");
+    internally_stable = ss.is_stable();
+    states = ss.num_states();
+    tf = ss.minimal(1e-10).to_tf();
+    req.title = a.loop_at.empty() ? diagram->name() + ": " + a.from + " -> " + a.to : diagram->name() + ": loop at " + a.loop_at;
+  }
+  if (discrete && !a.c2d.empty()) throw InputError("--c2d: the system is already discrete");
   if (!a.c2d.empty()) {
     req.c2d = b::parse_c2d_method(a.c2d);
     if (ts == 0.0) throw InputError("--c2d " + a.c2d + " needs --ts SECONDS");
     req.c2d_ts = ts;
-  } else if (!a.ts.empty() && !discrete) {
-    throw InputError("--ts is used with --c2d or with an expression in z");
   }
   if (!a.prewarp.empty()) {
     if (!req.c2d || *req.c2d != b::C2dMethod::Tustin) throw InputError("--prewarp is used with --c2d tustin");
@@ -100,15 +141,8 @@ int run_analyze(const AnalyzeArgs& a) {
       throw InputError("--prewarp '" + a.prewarp + "': expected a frequency between 0 and the Nyquist frequency " +
                        std::to_string(0.5 / ts) + " Hz");
   }
-  const b::TransferFunction g = [&] {
-    try {
-      return b::TransferFunction::parse(a.tf, params, discrete ? ts : 0.0);
-    } catch (const b::ExpressionError& e) {
-      throw InputError("--tf '" + a.tf + "': " + e.what());
-    } catch (const InputError& e) {
-      throw InputError("--tf '" + a.tf + "': " + e.what());
-    }
-  }();
+  const b::TransferFunction& g = *tf;
+  if (discrete) ts = g.ts();
 
   if (!a.freq.empty() && !a.freq_range.empty()) throw InputError("give either --freq or --freq-range, not both");
   const double nyquist_hz = discrete ? 0.5 / ts : INFINITY;
@@ -145,16 +179,91 @@ int run_analyze(const AnalyzeArgs& a) {
   }
   req.bode_png = a.bode;
   req.step_png = a.step_plot;
-  req.title = a.tf;
+  // Sweep: NAME=LO:HI:N[:log], re-evaluating the diagram at each value.
+  std::string sweep_name;
+  std::vector<double> sweep_values;
+  if (!a.sweep.empty()) {
+    const auto eq = a.sweep.find('=');
+    const auto parts = split(eq == std::string::npos ? "" : a.sweep.substr(eq + 1), ':');
+    if (eq == std::string::npos || (parts.size() != 3 && parts.size() != 4) || (parts.size() == 4 && parts[3] != "log" && parts[3] != "lin"))
+      throw InputError("--sweep '" + a.sweep + "': expected NAME=LO:HI:N or NAME=LO:HI:N:log");
+    sweep_name = a.sweep.substr(0, eq);
+    if (!diagram->parameters().count(sweep_name))
+      throw InputError("--sweep '" + a.sweep + "': the diagram has no parameter '" + sweep_name + "'");
+    const double lo = parse_number(parts[0], "--sweep", params), hi = parse_number(parts[1], "--sweep", params);
+    const int n = parse_count(parts[2], "--sweep");
+    const bool log = parts.size() == 4 && parts[3] == "log";
+    if (log && !(lo > 0.0 && hi > 0.0)) throw InputError("--sweep '" + a.sweep + "': a log sweep needs LO, HI > 0");
+    if (log) {
+      sweep_values = b::logspace(lo, hi, n);
+    } else {
+      for (int k = 0; k < n; ++k) sweep_values.push_back(n == 1 ? lo : lo + (hi - lo) * k / (n - 1));
+    }
+  }
 
   nlohmann::json report = dmbd::apps::analyze(g, req);
-  report["expression"] = a.tf;
-  report["parameters"] = params;
+  if (diagram) {
+    report["diagram"] = a.diagram;
+    report["stable"] = report["stable"].get<bool>() && internally_stable;
+    report["internally_stable"] = internally_stable;
+    report["states"] = states;
+    if (a.loop_at.empty()) {
+      report["from"] = a.from;
+      report["to"] = a.to;
+    } else {
+      report["loop_at"] = a.loop_at;
+    }
+    nlohmann::json ps;
+    for (const auto& name : diagram->parameter_order()) ps[name] = diagram->parameters().at(name);
+    report["parameters"] = ps;
+  } else {
+    report["expression"] = a.tf;
+    report["parameters"] = params;
+  }
+  if (!sweep_values.empty()) {
+    nlohmann::json sw = nlohmann::json::array();
+    for (double v : sweep_values) {
+      b::ParameterMap p = params;
+      p[sweep_name] = v;
+      const auto dv = dmbd::diagrams::Diagram::load(a.diagram, p);
+      const b::StateSpace ss = a.loop_at.empty() ? dmbd::diagrams::linearize(*dv, a.from, a.to)
+                                                 : dmbd::diagrams::loop_transfer(*dv, a.loop_at);
+      const b::TransferFunction gv = ss.minimal(1e-10).to_tf();
+      double max_re = -INFINITY;
+      nlohmann::json poles = nlohmann::json::array();
+      for (const auto& z : ss.poles()) {
+        const b::Complex s = dv->is_discrete() ? std::log(z) / dv->ts() : z;
+        max_re = std::max(max_re, s.real());
+        poles.push_back({z.real(), z.imag()});
+      }
+      const auto dc = gv.dc_gain();
+      const auto bw = b::bandwidth(gv);
+      sw.push_back({{"value", v},
+                    {"stable", ss.is_stable()},
+                    {"poles", poles},
+                    {"max_real_pole", std::isfinite(max_re) ? nlohmann::json(max_re) : nlohmann::json(nullptr)},
+                    {"dc_gain", dc ? nlohmann::json(*dc) : nlohmann::json(nullptr)},
+                    {"bandwidth_hz", bw ? nlohmann::json(*bw / (2 * M_PI)) : nlohmann::json(nullptr)}});
+    }
+    report["sweep_parameter"] = sweep_name;
+    report["sweep"] = sw;
+  }
   dmbd::apps::write_plots(g, report, req);
   if (a.json) {
     std::cout << report.dump() << "\n";
   } else {
     std::cout << dmbd::apps::summary(report);
+    if (report.contains("sweep")) {
+      int unstable = 0;
+      double worst = -INFINITY;
+      for (const auto& p : report["sweep"]) {
+        unstable += p["stable"].get<bool>() ? 0 : 1;
+        if (!p["max_real_pole"].is_null()) worst = std::max(worst, p["max_real_pole"].get<double>());
+      }
+      std::cout << "sweep of " << sweep_name << " over " << report["sweep"].size() << " values: "
+                << (unstable ? std::to_string(unstable) + " unstable" : std::string("all stable"))
+                << ", largest real part of a pole " << worst << "\n";
+    }
     if (!req.bode_png.empty()) std::cout << "wrote " << req.bode_png << "\n";
     if (!req.step_png.empty()) std::cout << "wrote " << req.step_png << "\n";
   }
@@ -173,8 +282,12 @@ int main(int argc, char** argv) {
   AnalyzeArgs an;
   CLI::App* analyze = app.add_subcommand("analyze", "Poles, zeros, DC gain, margins, bandwidth, Bode, step response and "
                                                     "discretisation of a transfer function");
-  analyze->add_option("--tf", an.tf, "Rational expression in s (or z with --ts), e.g. '1/((s/wc)^2 + sqrt(2)*s/wc + 1)'")
-      ->required();
+  analyze->add_option("diagram", an.diagram, "A diagram file (YAML, docs/diagram-format.md)");
+  analyze->add_option("--tf", an.tf, "Rational expression in s (or z with --ts), e.g. '1/((s/wc)^2 + sqrt(2)*s/wc + 1)'");
+  analyze->add_option("--from", an.from, "Diagram signal where the input is injected (an input, block.port, ...)");
+  analyze->add_option("--to", an.to, "Diagram signal that is measured");
+  analyze->add_option("--loop-at", an.loop_at, "Loop transfer at a break point (block.port), for margins");
+  analyze->add_option("--sweep", an.sweep, "NAME=LO:HI:N[:log]: stability over a parameter range (diagrams)");
   analyze->add_option("--param", an.params, "NAME=VALUE (VALUE may use earlier parameters: wc=2*pi*fc); repeatable");
   analyze->add_flag("--json", an.json, "Print one JSON object instead of the summary");
   analyze->add_option("--freq", an.freq, "Frequencies for the Bode report, F1,F2,... (Hz)");
@@ -203,6 +316,9 @@ int main(int argc, char** argv) {
 
   try {
     if (*analyze) return run_analyze(an);
+  } catch (const dmbd::diagrams::DiagramError& e) {
+    for (const auto& d : e.diagnostics()) std::cerr << d.str() << "\n";
+    return 2;
   } catch (const InputError& e) {
     std::string msg = e.what();
     std::replace(msg.begin(), msg.end(), '\n', ' ');

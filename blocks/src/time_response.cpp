@@ -221,12 +221,26 @@ StepInfo step_info(const StateSpace& sys, const TimeResponse& resp, int out, int
 
 double default_step_horizon(const StateSpace& sys) {
   double slowest = std::numeric_limits<double>::infinity(), fastest = 0.0;
+  std::vector<Complex> poles;
+  for (const Complex& p : sys.poles()) poles.push_back(sys.is_discrete() ? std::log(p) / sys.ts() : p);
+  for (const Complex& s : poles)
+    if (std::isfinite(std::abs(s))) fastest = std::max(fastest, std::abs(s));
+  // A pole whose decay rate is at rounding level against the fastest one is an
+  // integrator (it comes out as -1e-17 rather than 0 from the eigenvalues).
   bool stable = true;
-  for (const Complex& p : sys.poles()) {
-    const Complex s = sys.is_discrete() ? std::log(p) / sys.ts() : p;
-    if (!(s.real() < 0.0)) stable = false;
-    if (std::abs(s) > 0.0 && std::isfinite(std::abs(s))) fastest = std::max(fastest, std::abs(s));
-    if (s.real() < 0.0) slowest = std::min(slowest, -s.real());
+  for (const Complex& s : poles) {
+    if (!(s.real() < -1e-9 * fastest)) {
+      stable = false;
+    } else {
+      slowest = std::min(slowest, -s.real());
+    }
+  }
+  if (!stable) {
+    // Horizon set by the slowest non-zero dynamics.
+    double slow_mag = std::numeric_limits<double>::infinity();
+    for (const Complex& s : poles)
+      if (std::abs(s) > 1e-9 * fastest) slow_mag = std::min(slow_mag, std::abs(s));
+    if (std::isfinite(slow_mag)) fastest = slow_mag;
   }
   double t = 1.0;
   if (stable && std::isfinite(slowest)) {

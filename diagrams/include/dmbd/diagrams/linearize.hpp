@@ -1,0 +1,29 @@
+#pragma once
+// Linear models of a diagram between any two signals, loops closed through the
+// diagram, and the loop transfer at a break point.
+#include <string>
+
+#include "dmbd/diagrams/diagram.hpp"
+
+namespace dmbd::diagrams {
+
+// Signals are named (docs/diagram-format.md, "Signals for analysis"): a diagram input
+// or output, `block.port` (an output, or an input: the value arriving there), and
+// inside subsystems `subsystem.block.port` / `subsystem.port`.
+//
+// The model from `from` to `to`: an additive input injected at `from` (every reader
+// downstream of that point sees signal + injection; at a diagram input it is the
+// input itself), measured at `to` (the value its readers see). Delays are Padé
+// approximants in a continuous diagram. InputError for an unknown signal or a
+// numerically singular algebraic loop.
+blocks::StateSpace linearize(const Diagram& d, const std::string& from, const std::string& to);
+
+// The loop transfer at a break point: the readers downstream of `at` are fed an
+// injected input instead of the signal; L = -(signal before the break)/(injection),
+// the negative-feedback convention of the usual margins.
+blocks::StateSpace loop_transfer(const Diagram& d, const std::string& at);
+
+// Every name `linearize` accepts, for messages and `dmbd draw`.
+std::vector<std::string> signal_names(const Diagram& d);
+
+}  // namespace dmbd::diagrams
