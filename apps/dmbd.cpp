@@ -1,6 +1,7 @@
 // The `dmbd` command line.
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/linearize.hpp"
+#include "dmbd/viz/diagram_drawing.hpp"
 #include "dmbd/version.hpp"
 
 namespace {
@@ -52,18 +54,10 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
-struct AnalyzeArgs {
-  std::string diagram, from, to, loop_at, sweep;
-  std::string tf;
-  std::vector<std::string> params;
-  bool json = false;
-  std::string freq, freq_range, step, c2d, ts, prewarp, bode, step_plot;
-};
-
-int run_analyze(const AnalyzeArgs& a) {
-  // Parameters, in order: each may use the ones before it.
+// --param NAME=VALUE, in order: each VALUE may use the parameters before it.
+b::ParameterMap parse_params(const std::vector<std::string>& list) {
   b::ParameterMap params;
-  for (const std::string& p : a.params) {
+  for (const std::string& p : list) {
     const auto eq = p.find('=');
     if (eq == std::string::npos || eq == 0) throw InputError("--param '" + p + "': expected NAME=VALUE");
     const std::string name = p.substr(0, eq);
@@ -73,6 +67,24 @@ int run_analyze(const AnalyzeArgs& a) {
     if (name == "s" || name == "z") throw InputError("--param '" + p + "': s and z are the transfer-function variables");
     params[name] = parse_number(p.substr(eq + 1), "--param " + name, params);
   }
+  return params;
+}
+
+bool fs_parent_missing(const std::string& path) {
+  const std::filesystem::path p(path);
+  return p.has_parent_path() && !std::filesystem::is_directory(p.parent_path());
+}
+
+struct AnalyzeArgs {
+  std::string diagram, from, to, loop_at, sweep;
+  std::string tf;
+  std::vector<std::string> params;
+  bool json = false;
+  std::string freq, freq_range, step, c2d, ts, prewarp, bode, step_plot;
+};
+
+int run_analyze(const AnalyzeArgs& a) {
+  const b::ParameterMap params = parse_params(a.params);
 
   dmbd::apps::AnalyzeRequest req;
   if (a.diagram.empty() == a.tf.empty())
@@ -299,6 +311,13 @@ int main(int argc, char** argv) {
   analyze->add_option("--bode", an.bode, "Write a Bode plot (PNG)");
   analyze->add_option("--step-plot", an.step_plot, "Write a step-response plot (PNG)");
 
+  std::string draw_file, draw_out;
+  std::vector<std::string> draw_params;
+  CLI::App* draw = app.add_subcommand("draw", "Draw a block diagram as a PNG (layered layout, feedback routed below)");
+  draw->add_option("diagram", draw_file, "A diagram file (YAML)")->required();
+  draw->add_option("--out", draw_out, "PNG file to write")->required();
+  draw->add_option("--param", draw_params, "NAME=VALUE parameter override; repeatable");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -316,6 +335,14 @@ int main(int argc, char** argv) {
 
   try {
     if (*analyze) return run_analyze(an);
+    if (*draw) {
+      const b::ParameterMap params = parse_params(draw_params);
+      if (fs_parent_missing(draw_out)) throw InputError("--out '" + draw_out + "': the folder does not exist");
+      const auto d = dmbd::diagrams::Diagram::load(draw_file, params);
+      dmbd::viz::save_diagram_png(*d, draw_out);
+      std::cout << "wrote " << draw_out << "\n";
+      return 0;
+    }
   } catch (const dmbd::diagrams::DiagramError& e) {
     for (const auto& d : e.diagnostics()) std::cerr << d.str() << "\n";
     return 2;

@@ -431,6 +431,16 @@ class Loader {
       std::vector<std::string> allowed = it->second.second;
       allowed.insert(allowed.end(), {"type", "description"});
       check_keys(blk, allowed, std::string("field of a ") + type + " block");
+      for (const auto& f : blk) {
+        if (f.first.Scalar() == "type") continue;
+        if (f.second.IsScalar()) {
+          bl.fields.emplace_back(f.first.Scalar(), f.second.Scalar());
+        } else {
+          YAML::Emitter em;
+          em << YAML::Flow << f.second;
+          bl.fields.emplace_back(f.first.Scalar(), em.c_str());
+        }
+      }
       const size_t before = diags_.size();
       build(bl, blk);
       if (diags_.size() == before) d_->blocks_.push_back(std::move(bl));

@@ -57,6 +57,9 @@ struct Block {
   std::string name;
   BlockType type = BlockType::Gain;
   Location where;
+  // The block's fields as written (scalars as text, lists in YAML flow style), in file
+  // order: for drawings and for comments in generated code.
+  std::vector<std::pair<std::string, std::string>> fields;
   std::vector<Port> inputs, outputs;
   // The block's linear model, inputs and outputs stacked in port order: continuous
   // (a delay as its Padé approximant) or discrete at the diagram's sample time. Empty

@@ -1,0 +1,269 @@
+#include "dmbd/viz/diagram_drawing.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <opencv2/imgproc.hpp>
+
+#include "dmbd/viz/plot.hpp"
+
+namespace dmbd::viz {
+
+namespace {
+
+constexpr int kBoxW = 190, kBoxH = 78, kIoW = 120, kIoH = 40;
+constexpr int kLayerGap = 110, kRowGap = 50, kMargin = 50, kLane = 26;
+const cv::Scalar kInk(40, 40, 40), kBlue(180, 119, 31), kGrey(120, 120, 120), kFill(250, 244, 236),
+    kIoFill(236, 246, 236);
+
+std::string summary(const diagrams::Block& b) {
+  std::string s;
+  for (const auto& [k, v] : b.fields) {
+    if (k == "description" || k == "parameters") continue;
+    std::string item = k + ": " + v;
+    if (b.type == diagrams::BlockType::Tf && k == "expr") item = v;
+    s += (s.empty() ? "" : ", ") + item;
+  }
+  return s;
+}
+
+// Fit text into a width by shortening it with an ellipsis.
+std::string fit(const std::string& text, double scale, int thickness, int width) {
+  int base = 0;
+  if (cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &base).width <= width) return text;
+  std::string t = text;
+  while (t.size() > 1 && cv::getTextSize(t + "...", cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &base).width > width)
+    t.pop_back();
+  return t + "...";
+}
+
+void centered(cv::Mat& img, const std::string& text, cv::Point c, double scale, int thickness, cv::Scalar color) {
+  int base = 0;
+  const cv::Size ts = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &base);
+  cv::putText(img, text, {c.x - ts.width / 2, c.y + ts.height / 2}, cv::FONT_HERSHEY_SIMPLEX, scale, color, thickness,
+              cv::LINE_AA);
+}
+
+void arrow_head(cv::Mat& img, cv::Point tip, cv::Point dir, cv::Scalar color) {
+  const cv::Point2d d(dir.x, dir.y);
+  const double n = std::max(1e-9, std::hypot(d.x, d.y));
+  const cv::Point2d u = d / n, p(-u.y, u.x);
+  std::vector<cv::Point> tri = {tip, tip - cv::Point(cvRound(11 * u.x - 5 * p.x), cvRound(11 * u.y - 5 * p.y)),
+                                tip - cv::Point(cvRound(11 * u.x + 5 * p.x), cvRound(11 * u.y + 5 * p.y))};
+  cv::fillConvexPoly(img, tri, color, cv::LINE_AA);
+}
+
+}  // namespace
+
+DiagramLayout layout_diagram(const diagrams::Diagram& d) {
+  DiagramLayout L;
+  const int ni = static_cast<int>(d.inputs().size()), nb = static_cast<int>(d.blocks().size()),
+            no = static_cast<int>(d.outputs().size());
+  for (int i = 0; i < ni; ++i) L.nodes.push_back({d.inputs()[static_cast<size_t>(i)].name, 0, i, 0, 0, {}});
+  for (int i = 0; i < nb; ++i) L.nodes.push_back({d.blocks()[static_cast<size_t>(i)].name, 1, i, 0, 0, {}});
+  for (int i = 0; i < no; ++i) L.nodes.push_back({d.outputs()[static_cast<size_t>(i)].name, 2, i, 0, 0, {}});
+  auto node_of = [&](const diagrams::Source& s) { return s.block < 0 ? s.port : ni + s.block; };
+  for (int bi = 0; bi < nb; ++bi)
+    for (size_t k = 0; k < d.drivers(bi).size(); ++k)
+      L.edges.push_back({node_of(d.drivers(bi)[k]), ni + bi, d.drivers(bi)[k].port, static_cast<int>(k), false, {}});
+  for (int j = 0; j < no; ++j)
+    L.edges.push_back({node_of(d.output_driver(j)), ni + nb + j, d.output_driver(j).port, 0, false, {}});
+  const int n = static_cast<int>(L.nodes.size());
+
+  // Feedback edges: back edges of a depth-first search from the inputs (then from any
+  // node not reached), visiting successors in connection order.
+  std::vector<std::vector<int>> out(static_cast<size_t>(n));
+  for (size_t e = 0; e < L.edges.size(); ++e) out[static_cast<size_t>(L.edges[e].from)].push_back(static_cast<int>(e));
+  std::vector<int> state(static_cast<size_t>(n), 0);
+  std::function<void(int)> dfs = [&](int v) {
+    state[static_cast<size_t>(v)] = 1;
+    for (int e : out[static_cast<size_t>(v)]) {
+      const int w = L.edges[static_cast<size_t>(e)].to;
+      if (state[static_cast<size_t>(w)] == 1) {
+        L.edges[static_cast<size_t>(e)].feedback = true;
+      } else if (state[static_cast<size_t>(w)] == 0) {
+        dfs(w);
+      }
+    }
+    state[static_cast<size_t>(v)] = 2;
+  };
+  for (int v = 0; v < ni; ++v)
+    if (!state[static_cast<size_t>(v)]) dfs(v);
+  for (int v = 0; v < n; ++v)
+    if (!state[static_cast<size_t>(v)]) dfs(v);
+
+  // Layers: longest path over forward edges; outputs in the last layer.
+  bool changed = true;
+  for (int it = 0; changed && it < n + 1; ++it) {
+    changed = false;
+    for (const auto& e : L.edges) {
+      if (e.feedback) continue;
+      auto& a = L.nodes[static_cast<size_t>(e.from)];
+      auto& b = L.nodes[static_cast<size_t>(e.to)];
+      if (b.layer < a.layer + 1) b.layer = a.layer + 1, changed = true;
+    }
+  }
+  int last = 0;
+  for (const auto& nd : L.nodes)
+    if (nd.kind != 2) last = std::max(last, nd.layer);
+  for (auto& nd : L.nodes)
+    if (nd.kind == 2) nd.layer = last + 1;
+  L.layers = last + 2;
+
+  // Long forward connections get a bend point in every layer they cross, so that they
+  // take their own row there instead of running through other blocks.
+  std::vector<std::pair<int, int>> segments;
+  for (auto& e : L.edges) {
+    if (e.feedback) continue;
+    int prev = e.from;
+    for (int l = L.nodes[static_cast<size_t>(e.from)].layer + 1; l < L.nodes[static_cast<size_t>(e.to)].layer; ++l) {
+      L.nodes.push_back({"", 3, 0, l, 0, {}});
+      const int dn = static_cast<int>(L.nodes.size()) - 1;
+      e.via.push_back(dn);
+      segments.push_back({prev, dn});
+      prev = dn;
+    }
+    segments.push_back({prev, e.to});
+  }
+  const int n_all = static_cast<int>(L.nodes.size());
+
+  // Order within layers: barycentre sweeps.
+  std::vector<std::vector<int>> layer(static_cast<size_t>(L.layers));
+  for (int v = 0; v < n_all; ++v) layer[static_cast<size_t>(L.nodes[static_cast<size_t>(v)].layer)].push_back(v);
+  auto renumber = [&] {
+    for (auto& l : layer)
+      for (size_t k = 0; k < l.size(); ++k) L.nodes[static_cast<size_t>(l[k])].order = static_cast<int>(k);
+  };
+  renumber();
+  for (int sweep = 0; sweep < 8; ++sweep) {
+    for (auto& l : layer) {
+      std::vector<std::pair<double, int>> key;
+      for (int v : l) {
+        double sum = 0;
+        int cnt = 0;
+        for (const auto& [from, to] : segments) {
+          if (to == v) sum += L.nodes[static_cast<size_t>(from)].order, ++cnt;
+          if (sweep % 2 && from == v) sum += L.nodes[static_cast<size_t>(to)].order, ++cnt;
+        }
+        key.push_back({cnt ? sum / cnt : L.nodes[static_cast<size_t>(v)].order, v});
+      }
+      std::stable_sort(key.begin(), key.end());
+      for (size_t k = 0; k < l.size(); ++k) l[k] = key[k].second;
+      renumber();
+    }
+  }
+
+  // Coordinates.
+  size_t rows = 1;
+  for (const auto& l : layer) rows = std::max(rows, l.size());
+  int nfb = 0;
+  for (const auto& e : L.edges) nfb += e.feedback ? 1 : 0;
+  const int height = 2 * kMargin + static_cast<int>(rows) * (kBoxH + kRowGap) + nfb * kLane + 30;
+  const int width = 2 * kMargin + L.layers * (kBoxW + kLayerGap);
+  L.size = cv::Size(width, height);
+  const int body = static_cast<int>(rows) * (kBoxH + kRowGap);
+  for (auto& l : layer) {
+    const int used = static_cast<int>(l.size()) * (kBoxH + kRowGap);
+    for (size_t k = 0; k < l.size(); ++k) {
+      auto& nd = L.nodes[static_cast<size_t>(l[k])];
+      const int cx = kMargin + nd.layer * (kBoxW + kLayerGap) + kBoxW / 2;
+      const int cy = kMargin + 20 + (body - used) / 2 + static_cast<int>(k) * (kBoxH + kRowGap) + kBoxH / 2;
+      const int w = nd.kind == 1 ? kBoxW : nd.kind == 3 ? kBoxW : kIoW, h = nd.kind == 1 ? kBoxH : nd.kind == 3 ? 2 : kIoH;
+      nd.box = cv::Rect(cx - w / 2, cy - h / 2, w, h);
+    }
+  }
+  return L;
+}
+
+cv::Mat draw_diagram(const diagrams::Diagram& d) {
+  const DiagramLayout L = layout_diagram(d);
+  cv::Mat img(L.size, CV_8UC3, cv::Scalar(255, 255, 255));
+  const std::string title = d.name() + (d.description().empty() ? "" : ": " + d.description());
+  cv::putText(img, fit(title, 0.7, 2, L.size.width - 2 * kMargin), {kMargin, 38}, cv::FONT_HERSHEY_SIMPLEX, 0.7, kInk,
+              2, cv::LINE_AA);
+
+  auto port_point = [&](int node, int port, bool output) {
+    const auto& nd = L.nodes[static_cast<size_t>(node)];
+    int count = 1;
+    if (nd.kind == 1) {
+      const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
+      count = static_cast<int>(output ? b.outputs.size() : b.inputs.size());
+    }
+    const int y = nd.box.y + nd.box.height * (2 * port + 1) / (2 * std::max(1, count));
+    return cv::Point(output ? nd.box.x + nd.box.width : nd.box.x, y);
+  };
+
+  // Connections.
+  int lane = 0;
+  const int bottom = L.size.height - kMargin;
+  for (const auto& e : L.edges) {
+    const cv::Point a = port_point(e.from, e.from_port, true), b = port_point(e.to, e.to_port, false);
+    std::vector<cv::Point> path;
+    if (!e.feedback && b.x > a.x) {
+      // Through the bend points: enter each on its left, leave on its right.
+      std::vector<std::pair<cv::Point, cv::Point>> hops;  // (leave, arrive)
+      cv::Point leave = a;
+      for (int v : e.via) {
+        const cv::Rect& r = L.nodes[static_cast<size_t>(v)].box;
+        hops.push_back({leave, {r.x, r.y}});
+        leave = {r.x + r.width, r.y};
+      }
+      hops.push_back({leave, b});
+      path = {a};
+      for (const auto& [p, q] : hops) {
+        const int mx = q.x - kLayerGap / 2 + 10 * (e.to_port % 3);
+        path.push_back({mx, p.y});
+        path.push_back({mx, q.y});
+        path.push_back(q);
+      }
+    } else {
+      const int y = bottom - lane * kLane;
+      ++lane;
+      path = {a, {a.x + 20 + 6 * lane, a.y}, {a.x + 20 + 6 * lane, y}, {b.x - 24 - 6 * lane, y}, {b.x - 24 - 6 * lane, b.y}, b};
+    }
+    const cv::Scalar color = e.feedback ? kBlue : kInk;
+    cv::polylines(img, path, false, color, 2, cv::LINE_AA);
+    arrow_head(img, b, b - path[path.size() - 2], color);
+  }
+
+  // Nodes.
+  for (const auto& nd : L.nodes) {
+    if (nd.kind == 3) continue;
+    if (nd.kind == 1) {
+      const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
+      cv::rectangle(img, nd.box, kFill, cv::FILLED);
+      cv::rectangle(img, nd.box, kInk, 2, cv::LINE_AA);
+      const cv::Point c(nd.box.x + nd.box.width / 2, nd.box.y + nd.box.height / 2);
+      centered(img, fit(b.name, 0.62, 2, nd.box.width - 12), {c.x, c.y - 18}, 0.62, 2, kInk);
+      centered(img, diagrams::to_string(b.type), {c.x, c.y + 4}, 0.45, 1, kGrey);
+      centered(img, fit(summary(b), 0.4, 1, nd.box.width - 12), {c.x, c.y + 24}, 0.4, 1, kInk);
+      // Port names where a block has several.
+      for (size_t k = 0; b.inputs.size() > 1 && k < b.inputs.size(); ++k) {
+        const cv::Point p = port_point(static_cast<int>(&nd - &L.nodes[0]), static_cast<int>(k), false);
+        std::string label = b.inputs[k].name;
+        if (b.type == diagrams::BlockType::Sum) label = b.signs[k] > 0 ? "+" : "-";
+        cv::putText(img, label, {p.x + 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
+      }
+      for (size_t k = 0; b.outputs.size() > 1 && k < b.outputs.size(); ++k) {
+        const cv::Point p = port_point(static_cast<int>(&nd - &L.nodes[0]), static_cast<int>(k), true);
+        int base = 0;
+        const int w = cv::getTextSize(b.outputs[k].name, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, &base).width;
+        cv::putText(img, b.outputs[k].name, {p.x - w - 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
+      }
+    } else {
+      const auto& s = nd.kind == 0 ? d.inputs()[static_cast<size_t>(nd.index)] : d.outputs()[static_cast<size_t>(nd.index)];
+      cv::rectangle(img, nd.box, kIoFill, cv::FILLED);
+      cv::rectangle(img, nd.box, kGrey, 1, cv::LINE_AA);
+      const std::string label = s.name + (s.unit.empty() ? "" : " [" + s.unit + "]");
+      centered(img, fit(label, 0.55, 1, nd.box.width - 8), {nd.box.x + nd.box.width / 2, nd.box.y + nd.box.height / 2}, 0.55, 1,
+               kInk);
+    }
+  }
+  return img;
+}
+
+void save_diagram_png(const diagrams::Diagram& d, const std::string& path) {
+  write_file_atomic(path, encode_png(draw_diagram(d)));
+}
+
+}  // namespace dmbd::viz
