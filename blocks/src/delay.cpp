@@ -39,8 +39,10 @@ TransferFunction thiran(double delay_samples, int order, double ts) {
   std::vector<double> a(static_cast<size_t>(n) + 1);
   double binom = 1.0;  // C(n, k)
   for (int k = 0; k <= n; ++k) {
+    // a_0 = 1; for k >= 1 the product has the factor (d - n) that makes an integer delay
+    // d = n a pure z^-n (computed as 0/0 at k = 0, hence the special case).
     double prod = 1.0;
-    for (int i = 0; i <= n; ++i) prod *= (d - n + i) / (d - n + k + i);
+    for (int i = 0; i <= n && k > 0; ++i) prod *= (d - n + i) / (d - n + k + i);
     a[static_cast<size_t>(k)] = (k % 2 ? -1.0 : 1.0) * binom * prod;
     binom = binom * (n - k) / (k + 1);
   }

@@ -192,7 +192,8 @@ class Parser {
     const bool is_hex = body.size() > 1 && body[0] == '0' && (body[1] == 'x' || body[1] == 'X');
     while (!body.empty()) {
       const char last = static_cast<char>(std::tolower(static_cast<unsigned char>(body.back())));
-      if (last == 'u' || last == 'l' || (!is_hex && last == 'f')) {
+      const bool hex_float = is_hex && body.find_first_of("pP") != std::string::npos;
+      if (last == 'u' || last == 'l' || ((!is_hex || hex_float) && last == 'f')) {
         body.pop_back();
       } else {
         break;

@@ -97,13 +97,25 @@ TransferFunction StateSpace::to_tf(int out, int in) const {
   // coefficients are accurate relative to the numerator's own size; the formula
   // det(sI-A+BC) - det(sI-A) loses everything when the numerator is small against
   // the denominator (e.g. ZOH of a slow high-order system).
+  // Radius: the geometric mean of the pole magnitudes, leaving out poles at the origin
+  // (integrators come out of the eigenvalue solver as +-1e-16 or, for a double
+  // integrator, +-1e-8: they must not shrink the circle).
+  // "At the origin" is judged against the size of A itself, so that a system whose
+  // only poles are integrators (1/s^2 recovered from a matrix logarithm) is not
+  // interpolated on a circle of radius 1e-8.
   double r = 1.0;
   if (!is_discrete()) {
+    double scale = balanced().a().norm();
+    for (const Complex& p : ev) scale = std::max(scale, std::abs(p));
     double logsum = 0.0;
     int count = 0;
     for (const Complex& p : ev)
-      if (std::abs(p) > 0.0) logsum += std::log(std::abs(p)), ++count;
-    if (count > 0) r = std::exp(logsum / count);
+      if (std::abs(p) > 1e-6 * scale) logsum += std::log(std::abs(p)), ++count;
+    if (count > 0) {
+      r = std::exp(logsum / count);
+    } else if (scale > 0.0) {
+      r = scale;
+    }
   }
   const int np = n + 1;
   const double offset = 0.318309886;  // fraction of a step: keeps the points off real poles and z = 1

@@ -140,8 +140,16 @@ TEST(Thiran, IntegerDelayIsPureDelay) {
   // a_k = 0 for k >= 1, a_0 = 1).
   for (const int n : {1, 2, 3}) {
     SCOPED_TRACE("N = " + std::to_string(n));
+    // Regression (fixed): thiran(N, N, ts) computes a_0 as a product that
+    // contains (D - N)/(D - N) = 0/0 and throws "non-finite coefficient" instead of
+    // returning z^-N. This test fails until blocks/src/delay.cpp is fixed.
     TransferFunction h(1.0);
-    ASSERT_NO_THROW(h = thiran(static_cast<double>(n), n, 0.01));
+    try {
+      h = thiran(static_cast<double>(n), n, 0.01);
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "thiran(" << n << ", " << n << ", 0.01) threw: " << e.what();
+      continue;
+    }
     // z^-N exactly: numerator 1, denominator z^N (tolerance 1e-15 absolute on
     // coefficients of size 1).
     EXPECT_TRUE(coeffs_near(h.num(), {1.0}, 1e-15));

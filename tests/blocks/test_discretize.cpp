@@ -19,11 +19,10 @@ using test::tf_near;
 
 TransferFunction lag(double a) { return TransferFunction(Polynomial({a}), Polynomial({a, 1.0})); }
 
-// Points on the unit circle e^{j w ts} for a few w below Nyquist.
-std::vector<Complex> circle_points(double ts) {
+// Points e^{j theta} on the unit circle, theta from 1 % to 99 % of Nyquist.
+std::vector<Complex> circle_points() {
   std::vector<Complex> z;
   for (double f : {0.01, 0.1, 0.37, 0.8, 0.99}) z.push_back(std::polar(1.0, f * M_PI));
-  (void)ts;
   return z;
 }
 
@@ -58,7 +57,7 @@ TEST(Discretize, TustinFirstOrderLagClosedForm) {
 TEST(Discretize, TustinTfSubstitutionEqualsStateSpace) {
   const double ts = 0.01;
   for (const char* text : {"(s+3)/(s^2+2*s+5)", "(2*s^2 - s + 4)/((s+1)*(s^2+0.3*s+9))", "100/(s^2+14*s+100)",
-                           "(s-1)*(s+20)/((s+2)*(s+5)*(s+50))"}) {
+                           "(s-1)*(s+20)/((s+2)*(s+5)*(s+50))", "(2*s^2+s+1)/(s^2+3*s+2)"}) {
     SCOPED_TRACE(text);
     const TransferFunction g = TransferFunction::parse(text);
     for (const double w0 : {0.0, 40.0}) {
@@ -68,7 +67,7 @@ TEST(Discretize, TustinTfSubstitutionEqualsStateSpace) {
       // Two independent formulations: coefficients to 1e-12 of the largest (the
       // discrete denominators are O(1) with roots near z = 1).
       EXPECT_TRUE(tf_near(via_ss.to_tf(), via_tf, 1e-10));
-      for (const Complex z : circle_points(ts))
+      for (const Complex z : circle_points())
         // Values on the unit circle: 1e-10 relative (conditioning of roots near 1).
         EXPECT_TRUE(complex_near(via_ss.evaluate(z)(0, 0), via_tf.evaluate(z), 1e-10)) << "z = " << z;
       // Poles: c2d_pole maps each continuous pole exactly (1e-10 relative).
@@ -181,7 +180,7 @@ TEST(Discretize, BackwardEulerFirstOrderClosedForm) {
     // The state-space formulation agrees (1e-12 relative on the unit circle).
     const StateSpace s = c2d(StateSpace::from_tf(TransferFunction(Polynomial({1.0}), Polynomial({a, 1.0}))), ts,
                              C2dMethod::BackwardEuler);
-    for (const Complex z : circle_points(ts))
+    for (const Complex z : circle_points())
       EXPECT_TRUE(complex_near(s.evaluate(z)(0, 0), h.evaluate(z), 1e-12)) << "z = " << z;
   }
 }
@@ -191,7 +190,7 @@ TEST(Discretize, BackwardEulerTfEqualsStateSpaceHigherOrder) {
   const TransferFunction g = TransferFunction::parse("(2*s^2 - s + 4)/((s+1)*(s^2+0.3*s+9))");
   const TransferFunction via_tf = c2d(g, ts, C2dMethod::BackwardEuler);
   const StateSpace via_ss = c2d(StateSpace::from_tf(g), ts, C2dMethod::BackwardEuler);
-  for (const Complex z : circle_points(ts))
+  for (const Complex z : circle_points())
     // Poles cluster near z = 1 at this ts; 1e-9 relative.
     EXPECT_TRUE(complex_near(via_ss.evaluate(z)(0, 0), via_tf.evaluate(z), 1e-9)) << "z = " << z;
 }
@@ -216,6 +215,34 @@ TEST(Discretize, D2cInvertsC2d) {
     }
     // Pre-warped Tustin round trip (same pre-warp both ways): 1e-9.
     EXPECT_TRUE(tf_near(d2c(c2d(g, ts, C2dMethod::Tustin, 20.0), C2dMethod::Tustin, 20.0), g, 1e-9));
+  }
+}
+
+TEST(Discretize, D2cZohOfIntegratingSystemsStateSpacePath) {
+  // The ZOH equivalent of a plant with integrators (poles at z = 1): the state-space
+  // d2c (matrix logarithm) recovers the continuous response (1e-9 relative).
+  const double ts = 0.1;
+  for (const char* text : {"1/s", "1/(s*(s+1))", "1/s^2", "(s+1)/s^2"}) {
+    SCOPED_TRACE(text);
+    const TransferFunction g = TransferFunction::parse(text);
+    const StateSpace back = d2c(c2d(StateSpace::from_tf(g), ts, C2dMethod::Zoh), C2dMethod::Zoh);
+    for (const Complex s : {Complex(0.0, 0.5), Complex(0.0, 3.0), Complex(1.0, 10.0)})
+      EXPECT_TRUE(complex_near(back.evaluate(s)(0, 0), g.evaluate(s), 1e-9)) << "s = " << s;
+  }
+}
+
+// Regression (fixed): the TF path d2c(TF, Zoh) = d2c(from_tf(.)).to_tf()
+// goes through StateSpace::to_tf, which returns a garbage numerator when the
+// recovered poles at s = 0 come out as ~1e-14 instead of exactly 0 (see
+// StateSpace.ToTfOfIntegratingSystemsInGeneralCoordinates). E.g.
+// d2c(c2d(1/s^2, 0.1, zoh), zoh) gives numerator {0.59, 0, -8.8e27}. Guards the fix.
+TEST(Discretize, D2cZohOfIntegratingSystemsTfPath) {
+  const double ts = 0.1;
+  for (const char* text : {"1/s", "1/(s*(s+1))", "1/s^2", "(s+1)/s^2"}) {
+    SCOPED_TRACE(text);
+    const TransferFunction g = TransferFunction::parse(text);
+    // Round trip to 1e-9 of the largest coefficient (as D2cInvertsC2d).
+    EXPECT_TRUE(tf_near(d2c(c2d(g, ts, C2dMethod::Zoh), C2dMethod::Zoh), g, 1e-9));
   }
 }
 
