@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <set>
 
@@ -253,9 +254,11 @@ b::StateSpace assemble(const Diagram& d, const std::string& from, const std::str
     // Sizes may differ (MIMO); the blocks above were sized per target.
   }
   const b::Matrix IMD = b::Matrix::Identity(f.nu, f.nu) - M * D;
+  // Without feedthrough cycles M D is nilpotent and det(I - M D) = 1 however large its
+  // entries (K_r = 9.5e6 next to 1/M_l): judge singularity by the determinant, not by
+  // the pivots' spread.
   Eigen::FullPivLU<b::Matrix> lu(IMD);
-  lu.setThreshold(1e-12);
-  if (!lu.isInvertible())
+  if (!(std::abs(lu.determinant()) > 1e-9))
     throw InputError("algebraic loop: the direct-feedthrough path around a loop has gain 1 (I - M D is singular)");
   const b::Matrix KMC = lu.solve(M * C), KE = lu.solve(E);
   b::Matrix Acl = A + B * KMC, Bcl = B * KE;
