@@ -15,6 +15,7 @@
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/linearize.hpp"
+#include "dmbd/diagrams/tune.hpp"
 #include "dmbd/viz/diagram_drawing.hpp"
 #include "dmbd/version.hpp"
 
@@ -318,6 +319,26 @@ int main(int argc, char** argv) {
   draw->add_option("--out", draw_out, "PNG file to write")->required();
   draw->add_option("--param", draw_params, "NAME=VALUE parameter override; repeatable");
 
+  struct {
+    std::string diagram, from, to, p, d, gm = "6", overshoot = "0.5", wn_hz;
+    std::vector<std::string> params;
+    bool json = false;
+  } tn;
+  CLI::App* tune = app.add_subcommand(
+      "tune", "Tune a PD position loop by the paper's procedure (raise D to the stability limit less a gain margin, "
+              "then the highest P without overshoot), or to critical damping at a natural frequency");
+  tune->add_option("diagram", tn.diagram, "A diagram file (YAML)")->required();
+  tune->add_option("--from", tn.from, "Reference signal of the closed loop (e.g. q_d)")->required();
+  tune->add_option("--to", tn.to, "Measured signal of the closed loop (e.g. q)")->required();
+  tune->add_option("--p", tn.p, "Parameter name of the proportional gain")->required();
+  tune->add_option("--d", tn.d, "Parameter name of the derivative gain")->required();
+  tune->add_option("--gain-margin-db", tn.gm, "Back-off of D from its stability limit (dB, default 6)");
+  tune->add_option("--max-overshoot", tn.overshoot, "Largest step overshoot that counts as none (%, default 0.5)");
+  tune->add_option("--natural-frequency-hz", tn.wn_hz,
+                   "Critical damping at this closed-loop natural frequency instead (controller 3 of the paper)");
+  tune->add_option("--param", tn.params, "NAME=VALUE parameter override; repeatable");
+  tune->add_flag("--json", tn.json, "Print one JSON object");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -335,6 +356,44 @@ int main(int argc, char** argv) {
 
   try {
     if (*analyze) return run_analyze(an);
+    if (*tune) {
+      const b::ParameterMap params = parse_params(tn.params);
+      const double overshoot = parse_number(tn.overshoot, "--max-overshoot");
+      if (!(overshoot >= 0.0)) throw InputError("--max-overshoot must be >= 0 %");
+      dmbd::diagrams::PdTuningResult r;
+      if (!tn.wn_hz.empty()) {
+        const double f = parse_number(tn.wn_hz, "--natural-frequency-hz", params);
+        if (!(f > 0.0)) throw InputError("--natural-frequency-hz must be > 0");
+        r = dmbd::diagrams::tune_critical({tn.diagram, tn.from, tn.to, tn.p, tn.d, params, 2 * M_PI * f, overshoot});
+      } else {
+        const double gm = parse_number(tn.gm, "--gain-margin-db");
+        if (!(gm >= 0.0)) throw InputError("--gain-margin-db must be >= 0");
+        r = dmbd::diagrams::tune_pd({tn.diagram, tn.from, tn.to, tn.p, tn.d, params, gm, overshoot});
+      }
+      nlohmann::json j{{"diagram", tn.diagram},
+                       {"p_param", tn.p},
+                       {"d_param", tn.d},
+                       {"p", r.p},
+                       {"d", r.d},
+                       {"stable", r.figures.stable},
+                       {"overshoot_pct", r.figures.overshoot_pct},
+                       {"natural_frequency_hz", r.figures.natural_frequency_rad_s / (2 * M_PI)},
+                       {"rise_time_s", r.figures.rise_time_s},
+                       {"evaluations", r.evaluations}};
+      if (tn.wn_hz.empty()) j["d_critical"] = r.d_critical;
+      if (tn.json) {
+        std::cout << j.dump() << "\n";
+      } else {
+        if (tn.wn_hz.empty())
+          std::cout << tn.d << " at the stability limit (" << tn.p << " = 0): " << r.d_critical << "\n";
+        std::cout << tn.p << " = " << r.p << ", " << tn.d << " = " << r.d << "\n"
+                  << "closed loop " << tn.from << " -> " << tn.to << ": " << (r.figures.stable ? "stable" : "NOT stable")
+                  << ", overshoot " << r.figures.overshoot_pct << " %, natural frequency "
+                  << r.figures.natural_frequency_rad_s / (2 * M_PI) << " Hz, rise time " << r.figures.rise_time_s * 1e3
+                  << " ms (" << r.evaluations << " evaluations)\n";
+      }
+      return 0;
+    }
     if (*draw) {
       const b::ParameterMap params = parse_params(draw_params);
       if (fs_parent_missing(draw_out)) throw InputError("--out '" + draw_out + "': the folder does not exist");
