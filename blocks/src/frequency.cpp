@@ -300,8 +300,18 @@ Margins margins(const TransferFunction& loop) {
   if (loop.is_discrete()) add_phase_crossover(M_PI / loop.ts(), loop.evaluate(Complex(-1.0, 0.0)));
 
   auto by_w = [](const Crossing& a, const Crossing& b) { return a.w_rad_s < b.w_rad_s; };
-  std::sort(out.gain_crossovers.begin(), out.gain_crossovers.end(), by_w);
-  std::sort(out.phase_crossovers.begin(), out.phase_crossovers.end(), by_w);
+  // A tangent crossing is a double root that rounding splits in two; both refine to the
+  // same frequency: keep one.
+  auto dedupe = [&](std::vector<Crossing>& cs) {
+    std::sort(cs.begin(), cs.end(), by_w);
+    cs.erase(std::unique(cs.begin(), cs.end(),
+                         [](const Crossing& a, const Crossing& b) {
+                           return std::abs(a.w_rad_s - b.w_rad_s) <= 1e-8 * std::max(1e-300, std::abs(b.w_rad_s));
+                         }),
+             cs.end());
+  };
+  dedupe(out.gain_crossovers);
+  dedupe(out.phase_crossovers);
   auto smallest = [](const std::vector<Crossing>& cs) {
     const Crossing* best = nullptr;
     for (const Crossing& c : cs)

@@ -166,11 +166,18 @@ bool StateSpace::is_stable() const {
 
 Matrix StateSpace::dc_gain() const {
   if (num_states() == 0) return d_;
-  const Matrix m = is_discrete() ? Matrix(Matrix::Identity(num_states(), num_states()) - a_) : Matrix(-a_);
-  Eigen::FullPivLU<Matrix> lu(m);
-  lu.setThreshold(1e-12);
-  if (!lu.isInvertible()) throw InputError("the system has a pole at DC: its steady-state gain is infinite");
-  return d_ + c_ * lu.solve(b_);
+  // A pole at DC is decided on the eigenvalues (relative to the size of A), not on LU
+  // pivots, which a badly scaled but regular A can make tiny.
+  const StateSpace bal = balanced();
+  double scale = 1.0;
+  const std::vector<Complex> ev = poles();
+  for (const Complex& p : ev) scale = std::max(scale, std::abs(p));
+  for (const Complex& p : ev)
+    if (std::abs(is_discrete() ? p - 1.0 : p) <= 1e-12 * scale)
+      throw InputError("the system has a pole at DC: its steady-state gain is infinite");
+  const int n = num_states();
+  const Matrix m = is_discrete() ? Matrix(Matrix::Identity(n, n) - bal.a_) : Matrix(-bal.a_);
+  return d_ + bal.c_ * Eigen::PartialPivLU<Matrix>(m).solve(bal.b_);
 }
 
 Eigen::MatrixXcd StateSpace::evaluate(Complex x) const {

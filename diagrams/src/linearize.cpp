@@ -265,7 +265,9 @@ b::StateSpace assemble(const Diagram& d, const std::string& from, const std::str
   b::Matrix Ccl = Mm * (C + D * KMC), Dcl = Mm * D * KE + Em;
   b::StateSpace sys(Acl, Bcl, Ccl, Dcl, d.ts());
   if (loop) sys = b::StateSpace(sys.a(), sys.b(), -sys.c(), -sys.d(), d.ts());
-  return sys;
+  // Blocks of very different scales (a 1 ms Pade next to a 9.5e6 N/m spring) make A
+  // badly scaled: balance before anyone solves with it.
+  return sys.balanced();
 }
 
 }  // namespace

@@ -205,6 +205,7 @@ class Loader {
     if (n.IsScalar()) {
       b::Matrix m(1, 1);
       m(0, 0) = number(n, what);
+      if (!std::isfinite(m(0, 0))) return b::Matrix();
       return m;
     }
     if (!n.IsSequence() || n.size() == 0) {
@@ -417,6 +418,8 @@ class Loader {
       const YAML::Node blk = kv.second;
       if (!blk.IsMap() || !blk["type"]) {
         error(blk ? where(blk) : bl.where, "block '" + bl.name + "' must be a map with a 'type'");
+        broken_.insert(bl.name);
+        d_->blocks_.push_back(std::move(bl));
         continue;
       }
       const std::string type = blk["type"].Scalar();
@@ -425,6 +428,8 @@ class Loader {
         std::string list;
         for (const auto& t : block_fields()) list += (list.empty() ? "" : ", ") + t.first;
         error(blk["type"], "unknown block type '" + type + "' (expected one of: " + list + ")");
+        broken_.insert(bl.name);
+        d_->blocks_.push_back(std::move(bl));
         continue;
       }
       bl.type = it->second.first;
@@ -540,7 +545,8 @@ class Loader {
       case BlockType::Pid: {
         scalar_ports();
         const bool pid = bl.type == BlockType::Pid;
-        for (const char* f : {"P", "D", "tau"})
+        // tau is checked below, where it is needed (a non-zero D).
+        for (const char* f : {"P", "D"})
           if (!pid || std::string(f) == "P") require(blk, f, bl);
         const double p = blk["P"] ? number(blk["P"], "P") : NAN;
         const double i = pid && blk["I"] ? number(blk["I"], "I") : 0.0;
@@ -612,7 +618,8 @@ class Loader {
         const b::TransferFunction tf = ts > 0.0 ? b::sample_delay(bl.delay_samples, ts) : b::pade(bl.delay_s, pade);
         bl.tf = tf;
         bl.model = b::StateSpace::from_tf(tf);
-        bl.feedthrough = {false};  // a true delay: never part of an algebraic loop
+        // A true delay is never part of an algebraic loop; a zero delay is a wire.
+        bl.feedthrough = {bl.delay_s == 0.0 && bl.delay_samples == 0};
         return;
       }
       case BlockType::Saturation: {
@@ -632,7 +639,12 @@ class Loader {
         scalar_ports();
         const double k = blk["k"] ? number(blk["k"], "k") : 1.0;
         if (!std::isfinite(k)) return;
-        set_tf(bl, b::integrator(k), blk);
+        if (ts > 0.0) {
+          // A discrete accumulator (forward Euler, no feedthrough): y[k+1] = y[k] + k ts u[k].
+          set_tf(bl, b::TransferFunction(b::Polynomial::constant(k * ts), b::Polynomial({-1.0, 1.0}), ts), blk);
+        } else {
+          set_tf(bl, b::integrator(k), blk);
+        }
         break;
       }
       case BlockType::Subsystem: {
@@ -876,10 +888,22 @@ class Loader {
       const End src = resolve(from, from_at, true);
       for (const auto& [t, at] : tos) {
         const End dst = resolve(t, at, false);
-        if (!src.ok || !dst.ok) continue;
+        // A destination whose connection was wrong is still "driven": no follow-on
+        // "not driven" message for a problem already reported.
+        auto mark_driven = [&] {
+          if (!dst.ok) return;
+          Source& slot = dst.block >= 0 ? d_->drivers_[static_cast<size_t>(dst.block)][static_cast<size_t>(dst.port)]
+                                        : d_->output_drivers_[static_cast<size_t>(dst.port)];
+          if (slot.block == -2) slot = Source{-3, 0};
+        };
+        if (!src.ok || !dst.ok) {
+          mark_driven();
+          continue;
+        }
         if (src.size != dst.size) {
           error(at, "size mismatch: '" + from + "' has size " + std::to_string(src.size) + ", '" + t + "' expects " +
                         std::to_string(dst.size));
+          mark_driven();
           continue;
         }
         const Source s{src.block, src.port};
@@ -887,6 +911,11 @@ class Loader {
                                       : d_->output_drivers_[static_cast<size_t>(dst.port)];
         Location& first = dst.block >= 0 ? driven_at[static_cast<size_t>(dst.block)][static_cast<size_t>(dst.port)]
                                          : out_driven_at[static_cast<size_t>(dst.port)];
+        if (slot.block == -3) {
+          slot = s;
+          first = at;
+          continue;
+        }
         if (slot.block != -2) {
           error(at, "'" + t + "' is driven twice (first at line " + std::to_string(first.line) + ")");
           continue;
