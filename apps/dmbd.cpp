@@ -79,6 +79,7 @@ bool fs_parent_missing(const std::string& path) {
 struct AnalyzeArgs {
   std::string diagram, from, to, loop_at, sweep;
   std::string tf;
+  bool tf_given = false;
   std::vector<std::string> params;
   bool json = false;
   std::string freq, freq_range, step, c2d, ts, prewarp, bode, step_plot;
@@ -88,8 +89,8 @@ int run_analyze(const AnalyzeArgs& a) {
   const b::ParameterMap params = parse_params(a.params);
 
   dmbd::apps::AnalyzeRequest req;
-  if (a.diagram.empty() == a.tf.empty())
-    throw InputError(a.tf.empty() ? "give a diagram file or --tf EXPR" : "give either a diagram file or --tf, not both");
+  if (a.diagram.empty() != a.tf_given)
+    throw InputError(!a.tf_given ? "give a diagram file or --tf EXPR" : "give either a diagram file or --tf, not both");
   double ts = 0.0;
   if (!a.ts.empty()) {
     ts = parse_number(a.ts, "--ts", params);
@@ -100,7 +101,7 @@ int run_analyze(const AnalyzeArgs& a) {
   std::shared_ptr<const dmbd::diagrams::Diagram> diagram;
   bool internally_stable = true;
   int states = 0;
-  if (!a.tf.empty()) {
+  if (a.tf_given) {
     if (!a.from.empty() || !a.to.empty() || !a.loop_at.empty() || !a.sweep.empty())
       throw InputError("--from, --to, --loop-at and --sweep apply to a diagram, not to --tf");
     const b::Expression expr = [&] {
@@ -355,6 +356,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    an.tf_given = analyze->get_option("--tf")->count() > 0;
     if (*analyze) return run_analyze(an);
     if (*tune) {
       const b::ParameterMap params = parse_params(tn.params);

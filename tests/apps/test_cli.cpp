@@ -3,6 +3,7 @@
 // file written, never a crash).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -184,6 +185,72 @@ TEST_F(Cli, UnwritablePlotLeavesNothing) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+const std::string kData = DMBD_TEST_DATA;
+
+TEST_F(Cli, AnalyzeDiagramBetweenSignals) {
+  // The worked example of docs/diagram-format.md: x/x_d has DC gain Kp / (k + Kp) = 900/1300.
+  Result r = run({"analyze", kData + "/pd_loop.yaml", "--from", "x_d", "--to", "x", "--json", "--step", "1:501"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["dc_gain"].get<double>(), 900.0 / 1300.0, 1e-9);
+  EXPECT_TRUE(j["stable"].get<bool>());
+  EXPECT_TRUE(j["internally_stable"].get<bool>());
+  EXPECT_EQ(j["from"], "x_d");
+  // --param overrides reach the diagram: Kp = 400 gives 400/800.
+  r = run({"analyze", kData + "/pd_loop.yaml", "--from", "x_d", "--to", "x", "--json", "--param", "Kp=400"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["dc_gain"].get<double>(), 0.5, 1e-9);
+}
+
+TEST_F(Cli, LoopAtAndSweep) {
+  Result r = run({"analyze", kData + "/pd_loop.yaml", "--loop-at", "plant.out", "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["gain_margin_db"].get<double>(), 0.0);  // a stable loop
+  EXPECT_GT(j["phase_margin_deg"].get<double>(), 0.0);
+  r = run({"analyze", kData + "/pd_loop.yaml", "--from", "x_d", "--to", "x", "--json", "--sweep", "Kp=100:1e4:7:log"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["sweep"].size(), 7u);
+  EXPECT_DOUBLE_EQ(j["sweep"][0]["value"].get<double>(), 100.0);
+  EXPECT_DOUBLE_EQ(j["sweep"][6]["value"].get<double>(), 1e4);
+  for (const auto& p : j["sweep"]) {
+    const double kp = p["value"].get<double>();
+    EXPECT_NEAR(p["dc_gain"].get<double>(), kp / (400.0 + kp), 1e-9);
+    EXPECT_EQ(p["stable"].get<bool>(), p["max_real_pole"].get<double>() < 0.0);
+  }
+}
+
+TEST_F(Cli, DiagramErrorsNameFileLineColumn) {
+  const Result r = run({"analyze", kData + "/bad/unknown_block_type.yaml", "--from", "u", "--to", "y"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown_block_type.yaml:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(": error: unknown block type"), std::string::npos) << r.err;
+  const Result s = run({"analyze", kData + "/pd_loop.yaml", "--from", "x_d", "--to", "nowhere"});
+  EXPECT_EQ(s.code, 2);
+  EXPECT_NE(s.err.find("unknown signal 'nowhere'"), std::string::npos) << s.err;
+  const Result t = run({"analyze", kData + "/missing.yaml", "--from", "a", "--to", "b"});
+  EXPECT_EQ(t.code, 2);
+  EXPECT_NE(t.err.find("cannot read"), std::string::npos) << t.err;
+}
+
+TEST_F(Cli, DrawAndTune) {
+  const auto png = dir_ / "d.png";
+  Result r = run({"draw", kData + "/pd_loop.yaml", "--out", png.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(fs::file_size(png), 5000u);
+  r = run({"draw", kData + "/pd_loop.yaml", "--out", (dir_ / "no" / "d.png").string()});
+  EXPECT_EQ(r.code, 2);
+  // Tuning a PD loop on measurement: the result is stable and within the overshoot bound.
+  r = run({"tune", kData + "/pd_on_measurement.yaml", "--from", "x_d", "--to", "x", "--p", "Kp", "--d", "Kd", "--json"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["stable"].get<bool>());
+  EXPECT_LE(j["overshoot_pct"].get<double>(), 0.5 + 1e-9);
+  // D backed off 6 dB from the stability limit.
+  EXPECT_NEAR(j["d"].get<double>(), j["d_critical"].get<double>() * std::pow(10.0, -6.0 / 20.0), 1e-9 * j["d"].get<double>());
 }
 
 }  // namespace
