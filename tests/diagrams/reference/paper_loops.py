@@ -30,7 +30,6 @@ import argparse
 import json
 import math
 import os
-import re
 import sys
 
 import mpmath as mp
