@@ -99,11 +99,21 @@ PdTuningResult tune_pd(const PdTuning& s) {
     params[s.d_param] = d;
     ++r.evaluations;
     const auto dg = Diagram::load(s.diagram, params);
-    return linearize(*dg, s.from, s.to).is_stable();
+    // With P = 0 a position loop keeps the plant's integrator at the origin: set that
+    // root aside (|p| at rounding level against the largest pole) and judge the others.
+    const auto poles = linearize(*dg, s.from, s.to).poles();
+    double scale = 1.0;
+    for (const auto& p : poles) scale = std::max(scale, std::abs(p));
+    for (const auto& p : poles) {
+      const b::Complex z = dg->is_discrete() ? std::log(p) / dg->ts() : p;
+      if (std::abs(z) <= 1e-9 * scale) continue;
+      if (!(z.real() < 0.0)) return false;
+    }
+    return true;
   };
   const double d0 = start_value(s.diagram, s.fixed, s.d_param);
   const auto [dlo, dhi] = bracket(stable_d, d0, "stability limit of " + s.d_param);
-  r.d_critical = bisect_log(stable_d, dlo, dhi);
+  r.d_critical = bisect_log(stable_d, dlo, dhi, 1e-7);
   r.d = r.d_critical * std::pow(10.0, -s.gain_margin_db / 20.0);
   // 2. The highest P without overshoot.
   auto no_overshoot = [&](double p) {

@@ -33,7 +33,9 @@ struct PdTuning {
 };
 
 struct PdTuningResult {
-  double d_critical = 0.0;  // the derivative gain at which the loop (P = 0) loses stability
+  // The derivative gain at which the loop with P = 0 loses stability (a root at the
+  // origin, the plant's integrator left alone by a pure D loop, set aside).
+  double d_critical = 0.0;
   double d = 0.0, p = 0.0;  // the chosen gains
   ClosedLoopFigures figures;
   int evaluations = 0;
