@@ -153,23 +153,31 @@ DiagramLayout layout_diagram(const diagrams::Diagram& d) {
     }
   }
 
-  // Coordinates.
-  size_t rows = 1;
-  for (const auto& l : layer) rows = std::max(rows, l.size());
+  // Coordinates: each layer a column, its nodes stacked with their own heights (a block
+  // grows with its number of ports), columns centred vertically.
+  auto height_of = [&](const DiagramLayout::Node& nd) {
+    if (nd.kind == 3) return 2;
+    if (nd.kind != 1) return kIoH;
+    const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
+    const int ports = static_cast<int>(std::max(b.inputs.size(), b.outputs.size()));
+    return std::max(kBoxH, 24 * ports + 12);
+  };
+  std::vector<int> column(static_cast<size_t>(L.layers), 0);
+  for (size_t l = 0; l < layer.size(); ++l)
+    for (int v : layer[l]) column[l] += height_of(L.nodes[static_cast<size_t>(v)]) + kRowGap;
+  const int body = *std::max_element(column.begin(), column.end());
   int nfb = 0;
   for (const auto& e : L.edges) nfb += e.feedback ? 1 : 0;
-  const int height = 2 * kMargin + static_cast<int>(rows) * (kBoxH + kRowGap) + nfb * kLane + 30;
-  const int width = 2 * kMargin + L.layers * (kBoxW + kLayerGap);
-  L.size = cv::Size(width, height);
-  const int body = static_cast<int>(rows) * (kBoxH + kRowGap);
-  for (auto& l : layer) {
-    const int used = static_cast<int>(l.size()) * (kBoxH + kRowGap);
-    for (size_t k = 0; k < l.size(); ++k) {
-      auto& nd = L.nodes[static_cast<size_t>(l[k])];
+  L.size = cv::Size(2 * kMargin + L.layers * (kBoxW + kLayerGap), 2 * kMargin + 20 + body + nfb * kLane + 30);
+  for (size_t l = 0; l < layer.size(); ++l) {
+    int y = kMargin + 20 + (body - column[l]) / 2;
+    for (int v : layer[l]) {
+      auto& nd = L.nodes[static_cast<size_t>(v)];
       const int cx = kMargin + nd.layer * (kBoxW + kLayerGap) + kBoxW / 2;
-      const int cy = kMargin + 20 + (body - used) / 2 + static_cast<int>(k) * (kBoxH + kRowGap) + kBoxH / 2;
-      const int w = nd.kind == 1 ? kBoxW : nd.kind == 3 ? kBoxW : kIoW, h = nd.kind == 1 ? kBoxH : nd.kind == 3 ? 2 : kIoH;
-      nd.box = cv::Rect(cx - w / 2, cy - h / 2, w, h);
+      const int w = nd.kind == 1 || nd.kind == 3 ? kBoxW : kIoW, h = height_of(nd);
+      const int slot = h + kRowGap;
+      nd.box = cv::Rect(cx - w / 2, y + (slot - h) / 2, w, h);
+      y += slot;
     }
   }
   return L;
