@@ -214,28 +214,40 @@ std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys, const st
   const Eigen::MatrixXcd bt = (q.transpose() * sys.b()).cast<Complex>();
   const Eigen::MatrixXcd ct = (sys.c() * q).cast<Complex>();
   const Eigen::MatrixXcd d = sys.d().cast<Complex>();
-  Eigen::MatrixXcd work(n, n), x(n, m);
+  // Row-major working copies so that the row operations below run over contiguous
+  // memory; plain loops, because Eigen's dynamic-size row expressions cost more than
+  // the arithmetic at these sizes.
+  const Eigen::Matrix<Complex, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> minus_h = -h.cast<Complex>();
+  Eigen::Matrix<Complex, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> work(n, n), x(n, m);
   for (size_t k = 0; k < w.size(); ++k) {
     const Complex s = sys.is_discrete() ? std::polar(1.0, w[k] * sys.ts()) : Complex(0.0, w[k]);
-    work = -h.cast<Complex>();
-    work.diagonal().array() += s;
+    work = minus_h;
+    for (int i = 0; i < n; ++i) work(i, i) += s;
     x = bt;
+    Complex* a = work.data();
+    Complex* xb = x.data();
     // Gaussian elimination with partial pivoting on a Hessenberg matrix: only the
     // sub-diagonal entry is below each pivot, so it costs O(n^2) instead of O(n^3).
     for (int c = 0; c < n - 1; ++c) {
-      if (std::abs(work(c + 1, c)) > std::abs(work(c, c))) {
-        work.row(c).tail(n - c).swap(work.row(c + 1).tail(n - c));
-        x.row(c).swap(x.row(c + 1));
+      Complex* rc = a + c * n;
+      Complex* rn = rc + n;
+      if (std::norm(rn[c]) > std::norm(rc[c])) {
+        for (int j = c; j < n; ++j) std::swap(rc[j], rn[j]);
+        for (int j = 0; j < m; ++j) std::swap(xb[c * m + j], xb[(c + 1) * m + j]);
       }
-      if (work(c, c) == Complex(0.0)) continue;
-      const Complex f = work(c + 1, c) / work(c, c);
-      work.row(c + 1).tail(n - c - 1) -= f * work.row(c).tail(n - c - 1);
-      work(c + 1, c) = 0.0;
-      x.row(c + 1) -= f * x.row(c);
+      if (rc[c] == Complex(0.0)) continue;
+      const Complex f = rn[c] / rc[c];
+      for (int j = c + 1; j < n; ++j) rn[j] -= f * rc[j];
+      rn[c] = 0.0;
+      for (int j = 0; j < m; ++j) xb[(c + 1) * m + j] -= f * xb[c * m + j];
     }
     for (int r = n - 1; r >= 0; --r) {
-      if (r + 1 < n) x.row(r) -= work.row(r).tail(n - r - 1) * x.bottomRows(n - r - 1);
-      x.row(r) /= work(r, r);
+      const Complex* rr = a + r * n;
+      for (int j = 0; j < m; ++j) {
+        Complex acc = xb[r * m + j];
+        for (int q = r + 1; q < n; ++q) acc -= rr[q] * xb[q * m + j];
+        xb[r * m + j] = acc / rr[r];
+      }
     }
     out[k] = ct * x + d;
   }
