@@ -23,26 +23,6 @@ double wrap_2pi(double a) {  // into [0, 2 pi)
   return a < 0.0 ? a + 2.0 * M_PI : a;
 }
 
-// Whether x0 is a root of p, judged against the rounding error of evaluating p there.
-bool is_root(const Polynomial& p, double x0) {
-  double scale = 0.0, xk = 1.0;
-  for (double c : p.coeffs()) {
-    scale += std::abs(c) * xk;
-    xk *= std::abs(x0);
-  }
-  return std::abs(p(x0)) <= 1e-12 * scale;
-}
-
-// Remove every root at x0 from p; returns the multiplicity.
-int deflate(Polynomial& p, double x0) {
-  int m = 0;
-  while (p.degree() >= 1 && is_root(p, x0)) {
-    p = Polynomial::divide(p, Polynomial({-x0, 1.0})).first;
-    ++m;
-  }
-  return m;
-}
-
 // The factor-wise phase model of a TF (see Bode::phase_deg).
 struct PhaseModel {
   bool discrete = false;
@@ -52,9 +32,9 @@ struct PhaseModel {
   std::vector<Complex> zeros, poles;  // the others
 
   explicit PhaseModel(const TransferFunction& g) : discrete(g.is_discrete()), ts(g.ts()) {
-    Polynomial n = g.num(), d = g.den();
     const double x0 = discrete ? 1.0 : 0.0;
-    const int mn = deflate(n, x0), md = deflate(d, x0);
+    const auto [n, mn] = g.num().without_root(x0);
+    const auto [d, md] = g.den().without_root(x0);
     m = mn - md;
     zeros = n.roots();
     poles = d.roots();

@@ -59,6 +59,25 @@ int Polynomial::zero_roots() const {
   return n;
 }
 
+bool Polynomial::has_root_at(double x0) const {
+  double scale = 0.0, xk = 1.0;
+  for (double c : c_) {
+    scale += std::abs(c) * xk;
+    xk *= std::abs(x0);
+  }
+  return std::abs((*this)(x0)) <= 1e-12 * scale;
+}
+
+std::pair<Polynomial, int> Polynomial::without_root(double x0) const {
+  Polynomial p = *this;
+  int m = 0;
+  while (p.degree() >= 1 && p.has_root_at(x0)) {
+    p = divide(p, Polynomial({-x0, 1.0})).first;
+    ++m;
+  }
+  return {p, m};
+}
+
 double Polynomial::operator()(double x) const {
   double v = 0.0;
   for (auto it = c_.rbegin(); it != c_.rend(); ++it) v = v * x + *it;

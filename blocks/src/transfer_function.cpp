@@ -7,35 +7,6 @@
 
 namespace dmbd::blocks {
 
-namespace {
-
-// Whether x0 is a root of p, judged against the rounding error of evaluating p there.
-bool is_root(const Polynomial& p, double x0) {
-  double scale = 0.0, xk = 1.0;
-  for (double c : p.coeffs()) {
-    scale += std::abs(c) * xk;
-    xk *= std::abs(x0);
-  }
-  return std::abs(p(x0)) <= 1e-12 * scale;
-}
-
-// Multiplicity of the root x0, removing it by synthetic division.
-int deflate_root(Polynomial& p, double x0) {
-  int m = 0;
-  while (p.degree() >= 1 && is_root(p, x0)) {
-    if (x0 == 0.0) {
-      std::vector<double> c(p.coeffs().begin() + 1, p.coeffs().end());
-      p = Polynomial(std::move(c));
-    } else {
-      p = Polynomial::divide(p, Polynomial({-x0, 1.0})).first;
-    }
-    ++m;
-  }
-  return m;
-}
-
-}  // namespace
-
 void require_same_ts(double a, double b, const char* what) {
   if (a != b)
     throw InputError(std::string(what) + ": cannot combine systems with different sample times (" +
@@ -75,10 +46,9 @@ TransferFunction TransferFunction::parse(std::string_view expression, const Para
 
 std::optional<double> TransferFunction::dc_gain() const {
   const double x0 = is_discrete() ? 1.0 : 0.0;
-  Polynomial n = num_, d = den_;
-  if (n.is_zero()) return 0.0;
-  const int mn = deflate_root(n, x0);
-  const int md = deflate_root(d, x0);
+  if (num_.is_zero()) return 0.0;
+  const auto [n, mn] = num_.without_root(x0);
+  const auto [d, md] = den_.without_root(x0);
   if (md > mn) return std::nullopt;
   if (mn > md) return 0.0;
   return n(x0) / d(x0);

@@ -81,17 +81,21 @@ std::pair<double, double> bracket(const std::function<bool(double)>& ok, double 
   return {lo, hi};
 }
 
+// The closed loop of a tuning spec at gains (p, d), counting evaluations.
+template <class Spec>
+ClosedLoopFigures figures_at(const Spec& s, double p, double d, int& evaluations) {
+  b::ParameterMap params = s.fixed;
+  params[s.p_param] = p;
+  params[s.d_param] = d;
+  ++evaluations;
+  return closed_loop_figures(s.diagram, params, s.from, s.to);
+}
+
 }  // namespace
 
 PdTuningResult tune_pd(const PdTuning& s) {
   PdTuningResult r;
-  auto figures = [&](double p, double d) {
-    b::ParameterMap params = s.fixed;
-    params[s.p_param] = p;
-    params[s.d_param] = d;
-    ++r.evaluations;
-    return closed_loop_figures(s.diagram, params, s.from, s.to);
-  };
+  auto figures = [&](double p, double d) { return figures_at(s, p, d, r.evaluations); };
   // 1. The derivative gain at the stability limit, with P = 0.
   auto stable_d = [&](double d) {
     b::ParameterMap params = s.fixed;
@@ -130,13 +134,7 @@ PdTuningResult tune_pd(const PdTuning& s) {
 PdTuningResult tune_critical(const CriticalTuning& s) {
   PdTuningResult r;
   if (!(s.natural_frequency_rad_s > 0.0)) throw InputError("tune_critical needs a target natural frequency > 0");
-  auto figures = [&](double p, double d) {
-    b::ParameterMap params = s.fixed;
-    params[s.p_param] = p;
-    params[s.d_param] = d;
-    ++r.evaluations;
-    return closed_loop_figures(s.diagram, params, s.from, s.to);
-  };
+  auto figures = [&](double p, double d) { return figures_at(s, p, d, r.evaluations); };
   const double d0 = start_value(s.diagram, s.fixed, s.d_param);
   // For a given P: the smallest D (most lightly damped) that keeps the overshoot bound.
   auto critical_d = [&](double p) {

@@ -31,6 +31,10 @@ class Polynomial {
   double leading() const { return c_.empty() ? 0.0 : c_.back(); }
   // Number of roots at exactly zero (trailing zero coefficients).
   int zero_roots() const;
+  // Whether x0 is a root, judged against the rounding error of evaluating p there.
+  bool has_root_at(double x0) const;
+  // p with every root at x0 divided out, and how many there were.
+  std::pair<Polynomial, int> without_root(double x0) const;
 
   double operator()(double x) const;
   Complex operator()(Complex x) const;
