@@ -14,9 +14,13 @@
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/diagrams/diagram.hpp"
+#include "dmbd/codegen/emit.hpp"
+#include "dmbd/codegen/loop_program.hpp"
+#include "dmbd/codegen/verify.hpp"
 #include "dmbd/diagrams/linearize.hpp"
 #include "dmbd/diagrams/tune.hpp"
 #include "dmbd/viz/diagram_drawing.hpp"
+#include "dmbd/viz/plot.hpp"
 #include "dmbd/version.hpp"
 
 namespace {
@@ -86,6 +90,89 @@ bool internally_stable(const b::StateSpace& ss) {
     if (ss.is_discrete() ? !(std::abs(p) < 1.0 - 1e-12) : !(p.real() < -1e-12 * scale)) return false;
   }
   return true;
+}
+
+int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given, const std::string& rate_text,
+                const std::string& method_text, const std::vector<std::string>& block_methods,
+                const std::string& scalar_text, const std::string& input_range, std::string name,
+                const std::string& out_dir, const std::vector<std::string>& param_list, bool verify) {
+  namespace cg = dmbd::codegen;
+  const b::ParameterMap params = parse_params(param_list);
+  if (diagram.empty() != tf_given) throw InputError(tf_given ? "give either a diagram file or --tf, not both" : "give a diagram file or --tf EXPR");
+  cg::LowerOptions lo;
+  lo.rate_hz = parse_number(rate_text, "--rate", params);
+  if (!(lo.rate_hz > 0.0) || !std::isfinite(lo.rate_hz)) throw InputError("--rate '" + rate_text + "': expected a rate > 0 Hz");
+  lo.method = b::parse_c2d_method(method_text);
+  for (const std::string& bm : block_methods) {
+    const auto eq = bm.find('=');
+    if (eq == std::string::npos) throw InputError("--block-method '" + bm + "': expected BLOCK=METHOD");
+    lo.block_methods.push_back({bm.substr(0, eq), b::parse_c2d_method(bm.substr(eq + 1))});
+  }
+  cg::Scalar scalar;
+  if (scalar_text == "double") {
+    scalar = cg::Scalar::Double;
+  } else if (scalar_text == "float") {
+    scalar = cg::Scalar::Float;
+  } else {
+    throw InputError("--scalar '" + scalar_text + "': expected double or float (fixed point: not yet)");
+  }
+  if (!std::filesystem::is_directory(out_dir)) throw InputError("--out '" + out_dir + "': the folder does not exist");
+  std::optional<std::pair<double, double>> range;
+  if (!input_range.empty()) {
+    const auto parts = split(input_range, ':');
+    if (parts.size() != 2) throw InputError("--input-range '" + input_range + "': expected LO:HI");
+    range = std::make_pair(parse_number(parts[0], "--input-range", params), parse_number(parts[1], "--input-range", params));
+    if (!(range->first < range->second)) throw InputError("--input-range '" + input_range + "': LO must be below HI");
+  }
+  cg::LoopProgram program;
+  std::vector<std::pair<double, double>> ranges;
+  std::string source;
+  if (tf_given) {
+    b::TransferFunction g = [&] {
+      try {
+        return b::TransferFunction::parse(tf, params);
+      } catch (const InputError& e) {
+        throw InputError("--tf '" + tf + "': " + e.what());
+      }
+    }();
+    if (name.empty()) name = "tf";
+    program = cg::lower(g, name, lo);
+    ranges.push_back(range.value_or(std::make_pair(-1.0, 1.0)));
+    source = "the transfer function " + tf;
+  } else {
+    const auto d = dmbd::diagrams::Diagram::load(diagram, params);
+    program = cg::lower(*d, lo);
+    if (!name.empty()) program.name = name;
+    for (const auto& in : d->inputs())
+      for (int k = 0; k < in.size; ++k) ranges.push_back(in.range.value_or(range.value_or(std::make_pair(-1.0, 1.0))));
+    source = "the diagram " + diagram;
+  }
+  for (char c : program.name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
+      throw InputError("--name '" + program.name + "': expected a C++ identifier");
+  const std::string header = (std::filesystem::path(out_dir) / (program.name + ".hpp")).string();
+  dmbd::viz::write_file_atomic(header, [&] {
+    const std::string text = cg::emit_header(program, {scalar, source});
+    return std::vector<unsigned char>(text.begin(), text.end());
+  }());
+  std::cout << "wrote " << header << " (" << program.states.size() << " states, " << program.output_ops.size() + program.update_ops.size()
+            << " operations per step)\n";
+  for (const auto& w : program.warnings) std::cout << "warning: " << w << "\n";
+  if (verify) {
+    const std::string work = (std::filesystem::path(out_dir) / (".verify_" + program.name)).string();
+    const cg::VerifyResult v = cg::verify(program, scalar, header, work, ranges);
+    std::cout << "verify: " << v.samples << " samples (chirp + step), max |generated - interpreter| = " << v.max_abs_error
+              << " (outputs up to " << v.max_output << "), SQNR " << v.sqnr_db << " dB, " << v.saturations
+              << " saturations, " << v.ns_per_step << " ns/step\n";
+    std::filesystem::remove_all(work);
+    if (scalar == cg::Scalar::Double || scalar == cg::Scalar::Float) {
+      if (v.max_abs_error != 0.0) {
+        std::cerr << "dmbd: error: generated code differs from the interpreter (it must be bit-identical)\n";
+        return 1;
+      }
+    }
+  }
+  return 0;
 }
 
 struct AnalyzeArgs {
@@ -355,6 +442,24 @@ int main(int argc, char** argv) {
   tune->add_option("--param", tn.params, "NAME=VALUE parameter override; repeatable");
   tune->add_flag("--json", tn.json, "Print one JSON object");
 
+  struct {
+    std::string diagram, tf, rate, method = "tustin", scalar = "double", word = "32", input_range, name, out = ".";
+    std::vector<std::string> params, block_methods;
+    bool verify = false, tf_given = false;
+  } cg;
+  CLI::App* codegen = app.add_subcommand("codegen", "Generate a C++ control loop from a diagram or a transfer function");
+  codegen->add_option("diagram", cg.diagram, "A diagram file (YAML)");
+  codegen->add_option("--tf", cg.tf, "A transfer function instead of a diagram");
+  codegen->add_option("--rate", cg.rate, "Loop rate in Hz")->required();
+  codegen->add_option("--method", cg.method, "Discretisation of continuous blocks: tustin (default), zoh, backward-euler");
+  codegen->add_option("--block-method", cg.block_methods, "BLOCK=METHOD: another method for one block; repeatable");
+  codegen->add_option("--scalar", cg.scalar, "double (default) or float");
+  codegen->add_option("--input-range", cg.input_range, "LO:HI of every input where the diagram gives none (verification)");
+  codegen->add_option("--name", cg.name, "Namespace and file name (default: the diagram's name, or 'tf')");
+  codegen->add_option("--out", cg.out, "Output folder (default .)");
+  codegen->add_option("--param", cg.params, "NAME=VALUE parameter override; repeatable");
+  codegen->add_flag("--verify", cg.verify, "Compile the header and compare it with the interpreter on a chirp and a step");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -410,6 +515,11 @@ int main(int argc, char** argv) {
                   << " ms (" << r.evaluations << " evaluations)\n";
       }
       return 0;
+    }
+    if (*codegen) {
+      cg.tf_given = codegen->get_option("--tf")->count() > 0;
+      return run_codegen(cg.diagram, cg.tf, cg.tf_given, cg.rate, cg.method, cg.block_methods, cg.scalar,
+                         cg.input_range, cg.name, cg.out, cg.params, cg.verify);
     }
     if (*draw) {
       const b::ParameterMap params = parse_params(draw_params);

@@ -15,83 +15,6 @@ namespace {
 
 using Flat = FlatDiagram;
 
-// Solve (I - G) u = r where G is sparse: Tarjan's strongly connected components of the
-// dependency graph (u_i depends on u_j when G(i, j) != 0), visited so that every
-// component comes after the ones it depends on.
-b::Matrix solve_in_dependency_order(const b::Matrix& g, const b::Matrix& r) {
-  const int n = static_cast<int>(g.rows());
-  std::vector<std::vector<int>> dep(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      if (g(i, j) != 0.0) dep[static_cast<size_t>(i)].push_back(j);
-  std::vector<int> index(static_cast<size_t>(n), -1), low(static_cast<size_t>(n), 0), stack;
-  std::vector<bool> on(static_cast<size_t>(n), false);
-  std::vector<std::vector<int>> comps;  // in the order Tarjan closes them: dependencies first
-  int counter = 0;
-  std::function<void(int)> visit = [&](int v) {
-    index[static_cast<size_t>(v)] = low[static_cast<size_t>(v)] = counter++;
-    stack.push_back(v);
-    on[static_cast<size_t>(v)] = true;
-    for (int w : dep[static_cast<size_t>(v)]) {
-      if (index[static_cast<size_t>(w)] < 0) {
-        visit(w);
-        low[static_cast<size_t>(v)] = std::min(low[static_cast<size_t>(v)], low[static_cast<size_t>(w)]);
-      } else if (on[static_cast<size_t>(w)]) {
-        low[static_cast<size_t>(v)] = std::min(low[static_cast<size_t>(v)], index[static_cast<size_t>(w)]);
-      }
-    }
-    if (low[static_cast<size_t>(v)] == index[static_cast<size_t>(v)]) {
-      std::vector<int> comp;
-      int w;
-      do {
-        w = stack.back();
-        stack.pop_back();
-        on[static_cast<size_t>(w)] = false;
-        comp.push_back(w);
-      } while (w != v);
-      comps.push_back(comp);
-    }
-  };
-  for (int v = 0; v < n; ++v)
-    if (index[static_cast<size_t>(v)] < 0) visit(v);
-  b::Matrix u = b::Matrix::Zero(n, r.cols());
-  std::vector<bool> done(static_cast<size_t>(n), false);
-  for (const auto& comp : comps) {
-    const int k = static_cast<int>(comp.size());
-    // Right-hand side with the already solved entries substituted.
-    b::Matrix rhs(k, r.cols());
-    b::Matrix block = b::Matrix::Identity(k, k);
-    for (int a = 0; a < k; ++a) {
-      const int i = comp[static_cast<size_t>(a)];
-      rhs.row(a) = r.row(i);
-      for (int j : dep[static_cast<size_t>(i)]) {
-        if (done[static_cast<size_t>(j)]) {
-          rhs.row(a) += g(i, j) * u.row(j);
-        } else {
-          const auto it = std::find(comp.begin(), comp.end(), j);
-          block(a, static_cast<int>(it - comp.begin())) -= g(i, j);
-        }
-      }
-    }
-    b::Matrix x;
-    if (k == 1) {
-      if (!(std::abs(block(0, 0)) > 1e-12))
-        throw InputError("algebraic loop: a direct-feedthrough path around a loop has gain 1");
-      x = rhs / block(0, 0);
-    } else {
-      Eigen::FullPivLU<b::Matrix> lu(block);
-      if (!(std::abs(lu.determinant()) > 1e-12))
-        throw InputError("algebraic loop: the direct-feedthrough path around a loop has gain 1 (I - M D is singular)");
-      x = lu.solve(rhs);
-    }
-    for (int a = 0; a < k; ++a) {
-      u.row(comp[static_cast<size_t>(a)]) = x.row(a);
-      done[static_cast<size_t>(comp[static_cast<size_t>(a)])] = true;
-    }
-  }
-  return u;
-}
-
 b::StateSpace assemble(const Diagram& d, const std::string& from, const std::string& to, bool loop) {
   Flat f(d);
   const Flat::Target inj = f.find(from);
@@ -148,7 +71,7 @@ b::StateSpace assemble(const Diagram& d, const std::string& from, const std::str
   const b::Matrix MD = M * D;
   b::Matrix rhs(f.nu, nx + nd);
   rhs << M * C, E;
-  const b::Matrix sol = solve_in_dependency_order(MD, rhs);
+  const b::Matrix sol = b::solve_in_dependency_order(MD, rhs);
   const b::Matrix KMC = sol.leftCols(nx), KE = sol.rightCols(nd);
   b::Matrix Acl = A + B * KMC, Bcl = B * KE;
   b::Matrix Ccl = Mm * (C + D * KMC), Dcl = Mm * D * KE + Em;

@@ -366,14 +366,14 @@ class Loader {
     static const std::map<std::string, std::pair<BlockType, std::vector<std::string>>> f = {
         {"gain", {BlockType::Gain, {"k"}}},
         {"sum", {BlockType::Sum, {"signs", "size"}}},
-        {"tf", {BlockType::Tf, {"expr", "num", "den"}}},
-        {"ss", {BlockType::Ss, {"A", "B", "C", "D"}}},
-        {"pd", {BlockType::Pd, {"P", "D", "tau"}}},
-        {"pid", {BlockType::Pid, {"P", "I", "D", "tau"}}},
-        {"lowpass", {BlockType::Lowpass, {"order", "cutoff_hz"}}},
+        {"tf", {BlockType::Tf, {"expr", "num", "den", "discretization"}}},
+        {"ss", {BlockType::Ss, {"A", "B", "C", "D", "discretization"}}},
+        {"pd", {BlockType::Pd, {"P", "D", "tau", "discretization"}}},
+        {"pid", {BlockType::Pid, {"P", "I", "D", "tau", "discretization"}}},
+        {"lowpass", {BlockType::Lowpass, {"order", "cutoff_hz", "discretization"}}},
         {"delay", {BlockType::Delay, {"seconds", "samples", "pade_order"}}},
         {"saturation", {BlockType::Saturation, {"lower", "upper"}}},
-        {"integrator", {BlockType::Integrator, {"k"}}},
+        {"integrator", {BlockType::Integrator, {"k", "discretization"}}},
         {"subsystem", {BlockType::Subsystem, {"file", "parameters"}}},
     };
     return f;
@@ -444,6 +444,13 @@ class Loader {
           YAML::Emitter em;
           em << YAML::Flow << f.second;
           bl.fields.emplace_back(f.first.Scalar(), em.c_str());
+        }
+      }
+      if (const YAML::Node m = blk["discretization"]) {
+        try {
+          bl.method = b::parse_c2d_method(m.Scalar());
+        } catch (const InputError& e) {
+          error(m, e.what());
         }
       }
       const size_t before = diags_.size();

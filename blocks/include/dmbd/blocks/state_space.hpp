@@ -71,6 +71,13 @@ StateSpace feedback(const StateSpace& forward, const StateSpace& back, int sign 
 // Block-diagonal stacking: inputs and outputs concatenated.
 StateSpace append(const StateSpace& a, const StateSpace& b);
 
+// Solve (I - G) U = R for a sparse G by substitution in dependency order (U_i depends
+// on U_j where G(i, j) != 0), with a dense solve only inside each strongly connected
+// group: the algebraic equations of a block diagram, where chains of large gains make
+// a general LU of I - G lose every digit. InputError when a group is singular (an
+// algebraic loop of gain 1).
+Matrix solve_in_dependency_order(const Matrix& g, const Matrix& r);
+
 // Balancing scales for a square matrix (powers of two): returns d with
 // D^-1 M D balanced, D = diag(d).
 Vector balancing_scales(const Matrix& m);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "dmbd/blocks/discretize.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/state_space.hpp"
@@ -74,6 +75,8 @@ struct Block {
   int delay_samples = 0;           // delay (discrete)
   double lower = 0.0, upper = 0.0; // saturation
   std::shared_ptr<const Diagram> subsystem;
+  // The block's own discretisation for code generation (field `discretization`), if any.
+  std::optional<blocks::C2dMethod> method;
   // Direct feedthrough from input port k to any output (algebraic-loop check).
   std::vector<bool> feedthrough;
 };

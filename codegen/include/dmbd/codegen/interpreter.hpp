@@ -1,0 +1,60 @@
+#pragma once
+// The in-process interpreter of a loop program: exactly the emitted operation order
+// and arithmetic, so that a double (or float) program gives bit-identical results to
+// its generated code. No heap allocation in step().
+#include <vector>
+
+#include "dmbd/codegen/loop_program.hpp"
+
+namespace dmbd::codegen {
+
+template <class T>
+class Interpreter {
+ public:
+  explicit Interpreter(const LoopProgram& p) : p_(p), s_(p.slots.size(), T(0)) {
+    // Coefficients rounded once to T, as the emitter prints them.
+    for (const auto* ops : {&p.output_ops, &p.update_ops})
+      for (const Op& o : *ops) coeff_.push_back({static_cast<T>(o.c), static_cast<T>(o.lo), static_cast<T>(o.hi)});
+  }
+  void reset() { std::fill(s_.begin(), s_.end(), T(0)); }
+  // u: one value per program input; y: one per output.
+  void step(const T* u, T* y) {
+    for (size_t k = 0; k < p_.inputs.size(); ++k) s_[static_cast<size_t>(p_.inputs[k])] = u[k];
+    size_t c = 0;
+    run(p_.output_ops, c);
+    for (size_t k = 0; k < p_.outputs.size(); ++k) y[k] = s_[static_cast<size_t>(p_.outputs[k])];
+    run(p_.update_ops, c);
+  }
+  const std::vector<T>& slots() const { return s_; }
+
+ private:
+  struct Coeff {
+    T c, lo, hi;
+  };
+  void run(const std::vector<Op>& ops, size_t& c) {
+    for (const Op& o : ops) {
+      const Coeff& k = coeff_[c++];
+      T& dst = s_[static_cast<size_t>(o.dst)];
+      const T a = s_[static_cast<size_t>(o.a)];
+      switch (o.kind) {
+        case OpKind::Mul:
+          dst = o.c == 1.0 ? a : o.c == -1.0 ? -a : k.c * a;
+          break;
+        case OpKind::Mac:
+          dst = o.c == 1.0 ? dst + a : o.c == -1.0 ? dst - a : dst + k.c * a;
+          break;
+        case OpKind::Copy:
+          dst = a;
+          break;
+        case OpKind::Clamp:
+          dst = a < k.lo ? k.lo : (a > k.hi ? k.hi : a);
+          break;
+      }
+    }
+  }
+  const LoopProgram& p_;
+  std::vector<T> s_;
+  std::vector<Coeff> coeff_;
+};
+
+}  // namespace dmbd::codegen
