@@ -162,6 +162,32 @@ std::string describe(const std::vector<Section>& secs, b::C2dMethod m, bool disc
   return r;
 }
 
+// Drop the slots that no operation touches (the per-block states of blocks that were
+// merged into a state-space group) and renumber the rest.
+void compact(LoopProgram& p) {
+  std::vector<bool> used(p.slots.size(), false);
+  for (const auto* ops : {&p.output_ops, &p.update_ops})
+    for (const Op& o : *ops) used[static_cast<size_t>(o.dst)] = used[static_cast<size_t>(o.a)] = true;
+  for (int k : p.inputs) used[static_cast<size_t>(k)] = true;
+  for (int k : p.outputs) used[static_cast<size_t>(k)] = true;
+  std::vector<int> map(p.slots.size(), -1);
+  std::vector<Slot> kept;
+  for (size_t i = 0; i < p.slots.size(); ++i)
+    if (used[i]) {
+      map[i] = static_cast<int>(kept.size());
+      kept.push_back(p.slots[i]);
+    }
+  p.slots = kept;
+  for (auto* ops : {&p.output_ops, &p.update_ops})
+    for (Op& o : *ops) o.dst = map[static_cast<size_t>(o.dst)], o.a = map[static_cast<size_t>(o.a)];
+  for (int& k : p.inputs) k = map[static_cast<size_t>(k)];
+  for (int& k : p.outputs) k = map[static_cast<size_t>(k)];
+  std::vector<int> states;
+  for (int k : p.states)
+    if (map[static_cast<size_t>(k)] >= 0) states.push_back(map[static_cast<size_t>(k)]);
+  p.states = states;
+}
+
 }  // namespace
 
 LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
@@ -447,10 +473,11 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
     const int gi = c[0];
     std::vector<int> xs, nxt, ws, ys;
     const std::string base = "group_" + f.atomic_name[static_cast<size_t>(gi)];
+    const std::string origin = "group of " + f.atomic_name[static_cast<size_t>(gi)] + " and " + std::to_string(c.size() - 1) + " more blocks";
     for (int k = 0; k < g.num_states(); ++k) {
-      xs.push_back(bld.new_slot(base + "_x" + std::to_string(k + 1), SlotKind::State, "group of " + names));
+      xs.push_back(bld.new_slot(base + "_x" + std::to_string(k + 1), SlotKind::State, origin));
       p.states.push_back(xs.back());
-      nxt.push_back(bld.new_slot(base + "_x" + std::to_string(k + 1) + "_next", SlotKind::Signal, "group of " + names));
+      nxt.push_back(bld.new_slot(base + "_x" + std::to_string(k + 1) + "_next", SlotKind::Signal, origin));
     }
     for (int sgl : ext)
       for (int e = 0; e < f.signals[static_cast<size_t>(sgl)].size; ++e) ws.push_back(sig[static_cast<size_t>(sgl)][static_cast<size_t>(e)]);
@@ -528,6 +555,7 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
          "diagram output " + d.outputs()[j].name);
     }
   }
+  compact(p);
   return p;
 }
 
