@@ -1,11 +1,13 @@
 // The `dmbd` command line.
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/codegen/emit.hpp"
 #include "dmbd/codegen/loop_program.hpp"
+#include "dmbd/codegen/ranges.hpp"
 #include "dmbd/codegen/verify.hpp"
 #include "dmbd/diagrams/linearize.hpp"
 #include "dmbd/diagrams/tune.hpp"
@@ -92,6 +95,43 @@ bool internally_stable(const b::StateSpace& ss) {
   return true;
 }
 
+// <name>.report.json and a readable <name>.report.md next to the header.
+void write_report(const nlohmann::json& r, const std::string& dir, const std::string& name) {
+  const std::string base = (std::filesystem::path(dir) / (name + ".report")).string();
+  const std::string js = r.dump(2) + "\n";
+  dmbd::viz::write_file_atomic(base + ".json", std::vector<unsigned char>(js.begin(), js.end()));
+  std::ostringstream md;
+  md << "# " << name << ": code generation report\n\n"
+     << "Generated from " << r["source"].get<std::string>() << " at " << r["rate_hz"].get<double>() << " Hz ("
+     << r["method"].get<std::string>() << "), " << r["scalar"].get<std::string>() << " arithmetic.\n\n"
+     << "## Blocks\n\n| block | type | fields | realisation |\n|---|---|---|---|\n";
+  for (const auto& b : r["blocks"])
+    md << "| " << b["path"].get<std::string>() << " | " << b["type"].get<std::string>() << " | "
+       << b["fields"].get<std::string>() << " | " << b["realisation"].get<std::string>() << " |\n";
+  md << "\n## Signals\n\nGuaranteed bound |x| <= bound for inputs within their ranges (L1 norm of the impulse "
+        "response from each input and saturation), and the fixed-point format it needs (fractional bits, one bit "
+        "of headroom).\n\n| signal | kind | block | unit | bound | Q (16 bit) | Q (32 bit) |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& s : r["slots"]) {
+    md << "| " << s["name"].get<std::string>() << " | " << s["kind"].get<std::string>() << " | "
+       << s["origin"].get<std::string>() << " | " << s["unit"].get<std::string>() << " | ";
+    if (s["bound"].is_null()) {
+      md << "unbounded | - | - |\n";
+    } else {
+      md << fmt::format("{:.6g}", s["bound"].get<double>()) << " | " << s["q16"].get<int>() << " | "
+         << s["q32"].get<int>() << " |\n";
+    }
+  }
+  for (const auto& w : r["warnings"]) md << "\nWarning: " << w.get<std::string>() << "\n";
+  if (r.contains("verification")) {
+    const auto& v = r["verification"];
+    md << "\n## Verification\n\n" << v["samples"].get<int>() << " samples (chirp and step), max |generated - "
+       << "interpreter| = " << v["max_abs_error"].get<double>() << ", " << v["ns_per_step"].get<double>()
+       << " ns/step, compiled with `" << v["compiler"].get<std::string>() << "`.\n";
+  }
+  const std::string text = md.str();
+  dmbd::viz::write_file_atomic(base + ".md", std::vector<unsigned char>(text.begin(), text.end()));
+}
+
 int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given, const std::string& rate_text,
                 const std::string& method_text, const std::vector<std::string>& block_methods,
                 const std::string& scalar_text, const std::string& input_range, std::string name,
@@ -158,13 +198,49 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
   std::cout << "wrote " << header << " (" << program.states.size() << " states, " << program.output_ops.size() + program.update_ops.size()
             << " operations per step)\n";
   for (const auto& w : program.warnings) std::cout << "warning: " << w << "\n";
+  // The report: every signal's guaranteed range (L1 norms of impulse responses from the
+  // input ranges) and the Q format it would take in 16- and 32-bit words.
+  nlohmann::json report{{"name", program.name},
+                        {"source", source},
+                        {"rate_hz", program.rate_hz},
+                        {"method", b::to_string(program.method)},
+                        {"scalar", cg::to_string(scalar)},
+                        {"warnings", program.warnings}};
+  {
+    const std::vector<double> bounds = cg::slot_bounds(program, ranges);
+    nlohmann::json slots = nlohmann::json::array();
+    for (size_t k = 0; k < program.slots.size(); ++k) {
+      const auto& sl = program.slots[k];
+      const char* kind = sl.kind == cg::SlotKind::Input ? "input" : sl.kind == cg::SlotKind::Output ? "output"
+                                                                   : sl.kind == cg::SlotKind::State ? "state" : "signal";
+      nlohmann::json j{{"name", sl.name}, {"kind", kind}, {"origin", sl.origin}, {"unit", sl.unit}};
+      if (std::isfinite(bounds[k])) {
+        j["bound"] = bounds[k];
+        j["q16"] = cg::q_format(bounds[k], 16);
+        j["q32"] = cg::q_format(bounds[k], 32);
+      } else {
+        j["bound"] = nullptr;  // not bounded (an integrator, or an unstable loop)
+      }
+      slots.push_back(j);
+    }
+    report["slots"] = slots;
+    nlohmann::json blocks = nlohmann::json::array();
+    for (const auto& bi : program.blocks)
+      blocks.push_back({{"path", bi.path}, {"type", bi.type}, {"fields", bi.summary}, {"realisation", bi.realisation}});
+    report["blocks"] = blocks;
+  }
   if (verify) {
     const std::string work = (std::filesystem::path(out_dir) / (".verify_" + program.name)).string();
     const cg::VerifyResult v = cg::verify(program, scalar, header, work, ranges);
+    report["verification"] = {{"samples", v.samples}, {"max_abs_error", v.max_abs_error}, {"max_output", v.max_output},
+                              {"sqnr_db", std::isfinite(v.sqnr_db) ? nlohmann::json(v.sqnr_db) : nlohmann::json(nullptr)},
+                              {"saturations", v.saturations}, {"ns_per_step", v.ns_per_step},
+                              {"compiler", v.compiler_command}};
     std::cout << "verify: " << v.samples << " samples (chirp + step), max |generated - interpreter| = " << v.max_abs_error
               << " (outputs up to " << v.max_output << "), SQNR " << v.sqnr_db << " dB, " << v.saturations
               << " saturations, " << v.ns_per_step << " ns/step\n";
     std::filesystem::remove_all(work);
+    write_report(report, out_dir, program.name);
     if (scalar == cg::Scalar::Double || scalar == cg::Scalar::Float) {
       if (v.max_abs_error != 0.0) {
         std::cerr << "dmbd: error: generated code differs from the interpreter (it must be bit-identical)\n";
@@ -172,6 +248,7 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
       }
     }
   }
+  if (!verify) write_report(report, out_dir, program.name);
   return 0;
 }
 
