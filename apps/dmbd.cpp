@@ -17,6 +17,7 @@
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/codegen/emit.hpp"
+#include "dmbd/codegen/fixed.hpp"
 #include "dmbd/codegen/loop_program.hpp"
 #include "dmbd/codegen/ranges.hpp"
 #include "dmbd/codegen/verify.hpp"
@@ -108,18 +109,33 @@ void write_report(const nlohmann::json& r, const std::string& dir, const std::st
   for (const auto& b : r["blocks"])
     md << "| " << b["path"].get<std::string>() << " | " << b["type"].get<std::string>() << " | "
        << b["fields"].get<std::string>() << " | " << b["realisation"].get<std::string>() << " |\n";
-  md << "\n## Signals\n\nGuaranteed bound |x| <= bound for inputs within their ranges (L1 norm of the impulse "
-        "response from each input and saturation), and the fixed-point format it needs (fractional bits, one bit "
-        "of headroom).\n\n| signal | kind | block | unit | bound | Q (16 bit) | Q (32 bit) |\n|---|---|---|---|---|---|---|\n";
+  md << "\n## Signals\n\nBound |x| <= bound for inputs within their ranges: guaranteed (L1 norm of the impulse "
+        "response from each input and saturation) or, where no guarantee exists, simulated (twice the largest value "
+        "on the verification chirp and step); the fixed-point format (fractional bits, one bit of headroom).\n\n"
+        "| signal | kind | block | unit | bound | range | Q (16 bit) | Q (32 bit) | Q (generated) |\n"
+        "|---|---|---|---|---|---|---|---|---|\n";
+  auto cell = [](const nlohmann::json& j, const char* key) {
+    if (!j.contains(key) || j[key].is_null()) return std::string("-");
+    if (j[key].is_string()) return j[key].get<std::string>();
+    return fmt::format("{:.6g}", j[key].get<double>());
+  };
   for (const auto& s : r["slots"]) {
     md << "| " << s["name"].get<std::string>() << " | " << s["kind"].get<std::string>() << " | "
-       << s["origin"].get<std::string>() << " | " << s["unit"].get<std::string>() << " | ";
-    if (s["bound"].is_null()) {
-      md << "unbounded | - | - |\n";
-    } else {
-      md << fmt::format("{:.6g}", s["bound"].get<double>()) << " | " << s["q16"].get<int>() << " | "
-         << s["q32"].get<int>() << " |\n";
-    }
+       << s["origin"].get<std::string>() << " | " << s["unit"].get<std::string>() << " | "
+       << (s["bound"].is_null() ? std::string("unbounded") : cell(s, "bound")) << " | " << cell(s, "range") << " | "
+       << cell(s, "q16") << " | " << cell(s, "q32") << " | " << cell(s, "q") << " |\n";
+  }
+  if (r.contains("predicted_error_bound")) {
+    md << "\n## Quantisation\n\nPredicted worst-case output error (rounding and quantised coefficients):";
+    for (const auto& b : r["predicted_error_bound"]) md << " " << (b.is_null() ? std::string("none") : fmt::format("{:.3g}", b.get<double>()));
+    md << ". Frequency response of the quantised loop against the exact one: "
+       << fmt::format("{:.3g} dB, {:.3g} deg", r["frequency_response_deviation"]["max_db"].get<double>(),
+                      r["frequency_response_deviation"]["max_deg"].get<double>())
+       << " at most.\n\n| pole (exact) | pole (quantised) |\n|---|---|\n";
+    for (size_t k = 0; k < r["poles_exact"].size() && k < r["poles_quantised"].size(); ++k)
+      md << fmt::format("| {:.10g} {:+.10g}j | {:.10g} {:+.10g}j |\n", r["poles_exact"][k][0].get<double>(),
+                        r["poles_exact"][k][1].get<double>(), r["poles_quantised"][k][0].get<double>(),
+                        r["poles_quantised"][k][1].get<double>());
   }
   for (const auto& w : r["warnings"]) md << "\nWarning: " << w.get<std::string>() << "\n";
   if (r.contains("verification")) {
@@ -134,7 +150,7 @@ void write_report(const nlohmann::json& r, const std::string& dir, const std::st
 
 int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given, const std::string& rate_text,
                 const std::string& method_text, const std::vector<std::string>& block_methods,
-                const std::string& scalar_text, const std::string& input_range, std::string name,
+                const std::string& scalar_text, const std::string& word_text, const std::string& input_range, std::string name,
                 const std::string& out_dir, const std::vector<std::string>& param_list, bool verify) {
   namespace cg = dmbd::codegen;
   const b::ParameterMap params = parse_params(param_list);
@@ -148,14 +164,15 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
     if (eq == std::string::npos) throw InputError("--block-method '" + bm + "': expected BLOCK=METHOD");
     lo.block_methods.push_back({bm.substr(0, eq), b::parse_c2d_method(bm.substr(eq + 1))});
   }
-  cg::Scalar scalar;
-  if (scalar_text == "double") {
-    scalar = cg::Scalar::Double;
-  } else if (scalar_text == "float") {
+  cg::Scalar scalar = cg::Scalar::Double;
+  const bool fixed = scalar_text == "fixed";
+  if (scalar_text == "float") {
     scalar = cg::Scalar::Float;
-  } else {
-    throw InputError("--scalar '" + scalar_text + "': expected double or float (fixed point: not yet)");
+  } else if (scalar_text != "double" && !fixed) {
+    throw InputError("--scalar '" + scalar_text + "': expected double, float or fixed");
   }
+  if (word_text != "32" && word_text != "16") throw InputError("--word '" + word_text + "': expected 16 or 32");
+  const int word_bits = word_text == "32" ? 32 : 16;
   if (!std::filesystem::is_directory(out_dir)) throw InputError("--out '" + out_dir + "': the folder does not exist");
   std::optional<std::pair<double, double>> range;
   if (!input_range.empty()) {
@@ -191,8 +208,10 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
       throw InputError("--name '" + program.name + "': expected a C++ identifier");
   const std::string header = (std::filesystem::path(out_dir) / (program.name + ".hpp")).string();
+  std::optional<cg::FixedProgram> fx;
+  if (fixed) fx = cg::make_fixed(program, ranges, word_bits);
   dmbd::viz::write_file_atomic(header, [&] {
-    const std::string text = cg::emit_header(program, {scalar, source});
+    const std::string text = fixed ? cg::emit_fixed_header(program, *fx, {scalar, source}) : cg::emit_header(program, {scalar, source});
     return std::vector<unsigned char>(text.begin(), text.end());
   }());
   std::cout << "wrote " << header << " (" << program.states.size() << " states, " << program.output_ops.size() + program.update_ops.size()
@@ -204,7 +223,7 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
                         {"source", source},
                         {"rate_hz", program.rate_hz},
                         {"method", b::to_string(program.method)},
-                        {"scalar", cg::to_string(scalar)},
+                        {"scalar", fixed ? "fixed " + word_text + "-bit" : std::string(cg::to_string(scalar))},
                         {"warnings", program.warnings}};
   {
     const std::vector<double> bounds = cg::slot_bounds(program, ranges);
@@ -229,9 +248,42 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
       blocks.push_back({{"path", bi.path}, {"type", bi.type}, {"fields", bi.summary}, {"realisation", bi.realisation}});
     report["blocks"] = blocks;
   }
+  if (fx) {
+    // What quantisation does to the loop: formats, the predicted worst-case output
+    // error, the poles and the frequency response of the quantised program.
+    nlohmann::json slots = report["slots"];
+    for (size_t k = 0; k < program.slots.size(); ++k) {
+      slots[k]["q"] = fx->q[k];
+      slots[k]["range"] = fx->simulated[k] ? "simulated" : "guaranteed";
+      if (fx->simulated[k]) slots[k]["bound"] = fx->bound[k];
+    }
+    report["slots"] = slots;
+    const auto bound = cg::predicted_error_bound(program, *fx, ranges);
+    nlohmann::json pb = nlohmann::json::array();
+    for (double v : bound) pb.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+    report["predicted_error_bound"] = pb;
+    const b::StateSpace exact = cg::program_state_space(program), quant = cg::program_state_space(fx->quantised);
+    nlohmann::json pe = nlohmann::json::array(), pq = nlohmann::json::array();
+    for (const auto& z : exact.poles()) pe.push_back({z.real(), z.imag()});
+    for (const auto& z : quant.poles()) pq.push_back({z.real(), z.imag()});
+    report["poles_exact"] = pe;
+    report["poles_quantised"] = pq;
+    const auto w = b::logspace(2 * M_PI * 0.01, M_PI * program.rate_hz * 0.999, 400);
+    const auto he = b::frequency_response(exact, w), hq = b::frequency_response(quant, w);
+    double db = 0.0, deg = 0.0;
+    for (size_t k = 0; k < w.size(); ++k)
+      for (int r = 0; r < he[k].rows(); ++r)
+        for (int c = 0; c < he[k].cols(); ++c) {
+          const auto a = he[k](r, c), q = hq[k](r, c);
+          if (std::abs(a) == 0.0 || std::abs(q) == 0.0) continue;
+          db = std::max(db, std::abs(20 * std::log10(std::abs(q) / std::abs(a))));
+          deg = std::max(deg, std::abs(std::arg(q / a)) * 180 / M_PI);
+        }
+    report["frequency_response_deviation"] = {{"max_db", db}, {"max_deg", deg}};
+  }
   if (verify) {
     const std::string work = (std::filesystem::path(out_dir) / (".verify_" + program.name)).string();
-    const cg::VerifyResult v = cg::verify(program, scalar, header, work, ranges);
+    const cg::VerifyResult v = cg::verify(program, scalar, header, work, ranges, fx ? &*fx : nullptr);
     report["verification"] = {{"samples", v.samples}, {"max_abs_error", v.max_abs_error}, {"max_output", v.max_output},
                               {"sqnr_db", std::isfinite(v.sqnr_db) ? nlohmann::json(v.sqnr_db) : nlohmann::json(nullptr)},
                               {"saturations", v.saturations}, {"ns_per_step", v.ns_per_step},
@@ -239,9 +291,19 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
     std::cout << "verify: " << v.samples << " samples (chirp + step), max |generated - interpreter| = " << v.max_abs_error
               << " (outputs up to " << v.max_output << "), SQNR " << v.sqnr_db << " dB, " << v.saturations
               << " saturations, " << v.ns_per_step << " ns/step\n";
+    if (fx) {
+      double bound = 0.0;
+      for (double bv : v.predicted_bound) bound = std::max(bound, bv);
+      std::cout << "verify: fixed point against the exact (double) program: max error " << v.max_abs_error_vs_exact
+                << ", predicted bound " << bound
+                << (!std::isfinite(bound) ? " (none: rounding errors can accumulate, e.g. integral action)"
+                                          : v.max_abs_error_vs_exact <= bound ? " (within)" : " (EXCEEDED)")
+                << "\n";
+      report["verification"]["max_abs_error_vs_exact"] = v.max_abs_error_vs_exact;
+    }
     std::filesystem::remove_all(work);
     write_report(report, out_dir, program.name);
-    if (scalar == cg::Scalar::Double || scalar == cg::Scalar::Float) {
+    {
       if (v.max_abs_error != 0.0) {
         std::cerr << "dmbd: error: generated code differs from the interpreter (it must be bit-identical)\n";
         return 1;
@@ -530,7 +592,8 @@ int main(int argc, char** argv) {
   codegen->add_option("--rate", cg.rate, "Loop rate in Hz")->required();
   codegen->add_option("--method", cg.method, "Discretisation of continuous blocks: tustin (default), zoh, backward-euler");
   codegen->add_option("--block-method", cg.block_methods, "BLOCK=METHOD: another method for one block; repeatable");
-  codegen->add_option("--scalar", cg.scalar, "double (default) or float");
+  codegen->add_option("--scalar", cg.scalar, "double (default), float or fixed");
+  codegen->add_option("--word", cg.word, "Fixed-point word: 16 or 32 bits (default 32)");
   codegen->add_option("--input-range", cg.input_range, "LO:HI of every input where the diagram gives none (verification)");
   codegen->add_option("--name", cg.name, "Namespace and file name (default: the diagram's name, or 'tf')");
   codegen->add_option("--out", cg.out, "Output folder (default .)");
@@ -595,7 +658,7 @@ int main(int argc, char** argv) {
     }
     if (*codegen) {
       cg.tf_given = codegen->get_option("--tf")->count() > 0;
-      return run_codegen(cg.diagram, cg.tf, cg.tf_given, cg.rate, cg.method, cg.block_methods, cg.scalar,
+      return run_codegen(cg.diagram, cg.tf, cg.tf_given, cg.rate, cg.method, cg.block_methods, cg.scalar, cg.word,
                          cg.input_range, cg.name, cg.out, cg.params, cg.verify);
     }
     if (*draw) {

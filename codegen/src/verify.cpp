@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/codegen/fixed.hpp"
 #include "dmbd/codegen/interpreter.hpp"
 
 namespace dmbd::codegen {
@@ -51,7 +52,7 @@ std::vector<double> interpret(const LoopProgram& p, const std::vector<std::vecto
 }  // namespace
 
 VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& header, const std::string& work_dir,
-                    const std::vector<std::pair<double, double>>& ranges) {
+                    const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed) {
   VerifyResult r;
   fs::create_directories(work_dir);
   const auto u = verification_inputs(p, ranges);
@@ -62,26 +63,35 @@ VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& head
   }
   // The harness: reads the inputs, runs the generated step (native types, converted as
   // the interpreter converts them), writes the outputs, and times the step alone.
-  const std::string T = to_string(scalar);
+  const std::string T = fixed ? (fixed->word_bits == 32 ? "int32_t" : "int16_t") : std::string(to_string(scalar));
+  const std::string ns = p.name, sfx = fixed ? std::to_string(fixed->word_bits) : "";
+  // Conversions as the interpreters do them: a cast for float/double, the runtime's
+  // quantiser and converter for fixed point.
+  const std::string to_in = fixed ? ns + "::fx::quantize" + sfx + "(u[k * ni + j], " + ns + "::kInputQ[j], st)"
+                                  : "static_cast<" + T + ">(u[k * ni + j])";
+  const std::string to_out = fixed ? ns + "::fx::dequantize" + sfx + "(yo[j], " + ns + "::kOutputQ[j])"
+                                   : "static_cast<double>(yo[j])";
   std::ostringstream h;
   h << "#include \"" << fs::absolute(header).string() << "\"\n#include <chrono>\n#include <cstdio>\n#include <vector>\n"
     << "int main(int argc, char** argv) {\n  (void)argc;\n"
-    << "  const int ni = " << p.name << "::kNumInputs, no = " << p.name << "::kNumOutputs;\n"
+    << "  const int ni = " << ns << "::kNumInputs, no = " << ns << "::kNumOutputs;\n"
     << "  std::FILE* f = std::fopen(argv[1], \"rb\");\n  std::vector<double> u;\n  double v;\n"
     << "  while (std::fread(&v, sizeof v, 1, f) == 1) u.push_back(v);\n  std::fclose(f);\n"
     << "  const size_t n = u.size() / ni;\n  std::vector<double> out;\n"
-    << "  " << p.name << "::Controller c;\n  " << T << " ui[ni], yo[no];\n"
-    << "  for (size_t k = 0; k < n; ++k) {\n    for (int j = 0; j < ni; ++j) ui[j] = static_cast<" << T << ">(u[k * ni + j]);\n"
-    << "    c.step(ui, yo);\n    for (int j = 0; j < no; ++j) out.push_back(static_cast<double>(yo[j]));\n  }\n"
+    << (fixed ? "  " + ns + "::fx::Status st{0};\n" : std::string())
+    << "  " << ns << "::Controller c;\n  " << T << " ui[ni], yo[no];\n  std::vector<" << T << "> uq(n * ni);\n"
+    << "  for (size_t k = 0; k < n; ++k)\n    for (int j = 0; j < ni; ++j) uq[k * ni + j] = " << to_in << ";\n"
+    << "  for (size_t k = 0; k < n; ++k) {\n    for (int j = 0; j < ni; ++j) ui[j] = uq[k * ni + j];\n"
+    << "    c.step(ui, yo);\n    for (int j = 0; j < no; ++j) out.push_back(" << to_out << ");\n  }\n"
     << "  std::FILE* g = std::fopen(argv[2], \"wb\");\n  std::fwrite(out.data(), sizeof(double), out.size(), g);\n  std::fclose(g);\n"
+    << "  long saturations = " << (fixed ? "static_cast<long>(c.saturations())" : "0") << ";\n"
     << "  // Timing: the whole sequence, repeated, after a warm-up.\n"
     << "  volatile double sink = 0;\n  c.reset();\n  const int reps = 20;\n"
     << "  const auto t0 = std::chrono::steady_clock::now();\n"
     << "  for (int r = 0; r < reps; ++r)\n    for (size_t k = 0; k < n; ++k) {\n"
-    << "      for (int j = 0; j < ni; ++j) ui[j] = static_cast<" << T << ">(u[k * ni + j]);\n"
-    << "      c.step(ui, yo);\n      sink = sink + yo[0];\n    }\n"
-    << "  const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();\n"
-    << "  std::printf(\"%.3f\\n\", ns / (reps * static_cast<double>(n)));\n  return 0;\n}\n";
+    << "      c.step(&uq[k * ni], yo);\n      sink = sink + yo[0];\n    }\n"
+    << "  const double ns_step = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();\n"
+    << "  std::printf(\"%.3f %ld\\n\", ns_step / (reps * static_cast<double>(n)), saturations);\n  return 0;\n}\n";
   const fs::path src = fs::path(work_dir) / "harness.cpp", bin = fs::path(work_dir) / "harness",
                  log = fs::path(work_dir) / "compile.log", out = fs::path(work_dir) / "outputs.bin",
                  timing = fs::path(work_dir) / "timing.txt";
@@ -101,22 +111,39 @@ VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& head
   if (std::system(("'" + bin.string() + "' '" + (fs::path(work_dir) / "inputs.bin").string() + "' '" + out.string() +
                    "' > '" + timing.string() + "'").c_str()) != 0)
     throw InputError("the verification harness failed to run");
-  std::ifstream(timing) >> r.ns_per_step;
+  std::ifstream(timing) >> r.ns_per_step >> r.saturations;
   std::vector<double> got;
   {
     std::ifstream f(out, std::ios::binary);
     double v;
     while (f.read(reinterpret_cast<char*>(&v), sizeof v)) got.push_back(v);
   }
-  const std::vector<double> want = scalar == Scalar::Double ? interpret<double>(p, u) : interpret<float>(p, u);
+  std::vector<double> want;
+  if (fixed) {
+    FixedInterpreter fi(p, *fixed);
+    std::vector<double> yo(p.outputs.size());
+    for (const auto& row : u) {
+      fi.step_real(row.data(), yo.data());
+      want.insert(want.end(), yo.begin(), yo.end());
+    }
+    const std::vector<double> exact = interpret<double>(p, u);
+    for (size_t k = 0; k < exact.size() && k < got.size(); ++k)
+      r.max_abs_error_vs_exact = std::max(r.max_abs_error_vs_exact, std::abs(got[k] - exact[k]));
+    r.predicted_bound = predicted_error_bound(p, *fixed, ranges);
+  } else {
+    want = scalar == Scalar::Double ? interpret<double>(p, u) : interpret<float>(p, u);
+  }
   if (got.size() != want.size()) throw InputError("the verification harness wrote the wrong number of outputs");
+  // SQNR against the exact program for fixed point (against the interpreter of the same
+  // arithmetic otherwise, where it is infinite when the code is right).
+  const std::vector<double> ref = fixed ? interpret<double>(p, u) : want;
   double se = 0.0, sy = 0.0;
   for (size_t k = 0; k < got.size(); ++k) {
-    const double e = got[k] - want[k];
-    r.max_abs_error = std::max(r.max_abs_error, std::abs(e));
+    r.max_abs_error = std::max(r.max_abs_error, std::abs(got[k] - want[k]));
     r.max_output = std::max(r.max_output, std::abs(want[k]));
+    const double e = got[k] - ref[k];
     se += e * e;
-    sy += want[k] * want[k];
+    sy += ref[k] * ref[k];
   }
   r.sqnr_db = se == 0.0 ? INFINITY : 10.0 * std::log10(sy / se);
   return r;

@@ -21,6 +21,12 @@ struct EmitOptions {
 // program is bit-identical to the interpreter).
 std::string emit_header(const LoopProgram& p, const EmitOptions& o);
 
+struct FixedProgram;
+// The fixed-point header: integer words of `f.word_bits` bits, the formats of f, the
+// runtime fragment pasted into namespace <name>::fx; needs only <cstdint>; step() is
+// integer arithmetic only; step_real() quantises and converts; saturations() counts.
+std::string emit_fixed_header(const LoopProgram& p, const FixedProgram& f, const EmitOptions& o);
+
 // A C++ literal that reads back as exactly v in the given scalar type.
 std::string literal(double v, Scalar s);
 

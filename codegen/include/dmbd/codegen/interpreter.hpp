@@ -26,6 +26,8 @@ class Interpreter {
     run(p_.update_ops, c);
   }
   const std::vector<T>& slots() const { return s_; }
+  // Direct access to the slots, for probing the program (states between steps).
+  std::vector<T>& mutable_slots() { return s_; }
 
  private:
   struct Coeff {

@@ -9,6 +9,8 @@
 
 namespace dmbd::codegen {
 
+struct FixedProgram;
+
 struct VerifyResult {
   double max_abs_error = 0.0;      // generated vs interpreter, over all outputs and samples
   double max_output = 0.0;         // largest |output| seen (scale for the error)
@@ -17,6 +19,10 @@ struct VerifyResult {
   double ns_per_step = 0.0;        // generated code, measured in the harness
   int samples = 0;
   std::string compiler_command;
+  // Fixed point: the generated code against the exact (double) program, and the bound
+  // predicted for that difference.
+  double max_abs_error_vs_exact = 0.0;
+  std::vector<double> predicted_bound;
 };
 
 // The verification input: for each input an exponential chirp from 0.1 Hz to 0.4 x the
@@ -28,7 +34,9 @@ std::vector<std::vector<double>> verification_inputs(const LoopProgram& p,
 // `header` is the path of the generated header; `work_dir` receives the harness, its
 // binary and the data files. InputError when the compiler fails (its first error line
 // in the message).
+// With `fixed`, the header is the fixed-point one: compared bit for bit with the fixed
+// interpreter, and against the double program within the predicted bound.
 VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& header, const std::string& work_dir,
-                    const std::vector<std::pair<double, double>>& ranges);
+                    const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed = nullptr);
 
 }  // namespace dmbd::codegen
