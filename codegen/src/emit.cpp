@@ -14,6 +14,10 @@ namespace dmbd::codegen {
 const char* to_string(Scalar s) { return s == Scalar::Double ? "double" : "float"; }
 
 std::string literal(double v, Scalar s) {
+  // Beyond the type's range (a saturation limit of 1e39 in float): the infinity the
+  // interpreter also gets from the same conversion.
+  const double as_type = s == Scalar::Float ? static_cast<double>(static_cast<float>(v)) : v;
+  if (std::isinf(as_type)) return std::string(as_type < 0 ? "-" : "") + (s == Scalar::Float ? "HUGE_VALF" : "HUGE_VAL");
   char buf[64];
   if (s == Scalar::Float) {
     std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(static_cast<float>(v)));

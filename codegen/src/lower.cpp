@@ -197,6 +197,11 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
     throw InputError("diagram '" + d.name() + "' is discrete at " + std::to_string(1.0 / d.ts()) +
                      " Hz: generate it at that rate");
   const diagrams::FlatDiagram f(d);
+  for (const auto& [name, m] : opt.block_methods) {
+    (void)m;
+    if (std::find(f.atomic_name.begin(), f.atomic_name.end(), name) == f.atomic_name.end())
+      throw InputError("--block-method: diagram '" + d.name() + "' has no block '" + name + "'");
+  }
   Builder bld;
   LoopProgram& p = bld.p;
   p.name = d.name();
@@ -272,6 +277,10 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
       case diagrams::BlockType::Delay: {
         const double exact = d.is_discrete() ? bl.delay_samples : bl.delay_s * opt.rate_hz;
         const int n = static_cast<int>(std::lround(exact));
+        if (n == 0 && exact > 1e-6)
+          throw InputError("delay '" + path + "' of " + fmt_coeff(bl.delay_s) + " s is " + fmt_coeff(exact) +
+                           " samples at " + fmt_coeff(opt.rate_hz) + " Hz: shorter than half a sample, it would vanish; "
+                           "raise the rate or lengthen the delay");
         if (std::abs(exact - n) > 1e-6 * std::max(1.0, exact))
           p.warnings.push_back("delay '" + path + "' of " + fmt_coeff(bl.delay_s) + " s is " + fmt_coeff(exact) +
                                " samples at " + fmt_coeff(opt.rate_hz) + " Hz: rounded to " + std::to_string(n));
@@ -403,12 +412,13 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
     }
     // A group: stack the members' linear models and close the internal connections.
     std::string names;
+    for (int i : c) names += (names.empty() ? "" : ", ") + f.atomic_name[static_cast<size_t>(i)];
     for (int i : c) {
       const diagrams::Block& bl = *f.atomic[static_cast<size_t>(i)];
-      names += (names.empty() ? "" : ", ") + f.atomic_name[static_cast<size_t>(i)];
       if (bl.type == diagrams::BlockType::Saturation || bl.type == diagrams::BlockType::Delay)
-        throw InputError("algebraic loop after discretisation through " + names + "...: the " + diagrams::to_string(bl.type) +
-                         " block '" + f.atomic_name[static_cast<size_t>(i)] + "' cannot be solved with it (put a delay in the loop)");
+        throw InputError("algebraic loop after discretisation through " + names + ": the " + diagrams::to_string(bl.type) +
+                         " block '" + f.atomic_name[static_cast<size_t>(i)] +
+                         "' cannot be merged into a linear group (put a delay in the loop)");
     }
     std::vector<int> ext;  // external signals read, in first-use order
     int nx = 0, nu = 0, ny = 0;

@@ -50,32 +50,37 @@ std::vector<Section> sections_from_roots(const std::vector<Complex>& zeros, cons
     for (const auto& p : y) dy = std::max(dy, std::abs(p));
     return dx > dy;
   });
-  std::vector<Section> out;
-  std::vector<bool> used(zg.size(), false);
-  for (const auto& p : pg) {
-    // Zeros for this section: the nearest groups that fit its order.
-    std::vector<Complex> z;
-    while (z.size() < p.size()) {
-      int best = -1;
-      for (size_t k = 0; k < zg.size(); ++k) {
-        if (used[k] || z.size() + zg[k].size() > p.size()) continue;
-        if (best < 0 || distance(zg[k], p) < distance(zg[static_cast<size_t>(best)], p)) best = static_cast<int>(k);
-      }
-      if (best < 0) {
-        // Split a real pair if only that is left and one slot remains.
-        bool split = false;
-        for (size_t k = 0; k < zg.size() && !split; ++k)
-          if (!used[k] && zg[k].size() == 2 && zg[k][0].imag() == 0.0) {
-            z.push_back(zg[k][0]);
-            zg[k] = {zg[k][1]};
-            split = true;
-          }
-        if (!split) break;
-        continue;
-      }
-      used[static_cast<size_t>(best)] = true;
-      z.insert(z.end(), zg[static_cast<size_t>(best)].begin(), zg[static_cast<size_t>(best)].end());
+  // Zeros to sections: every complex pair to a second-order section (there are at least
+  // as many as complex zero pairs, since real poles are paired two by two), nearest
+  // first; then every real zero to the nearest section with a free slot.
+  std::vector<std::vector<Complex>> zs(pg.size());
+  auto nearest = [&](const std::vector<Complex>& z, size_t need) {
+    int best = -1;
+    for (size_t k = 0; k < pg.size(); ++k) {
+      if (pg[k].size() - zs[k].size() < need) continue;
+      if (best < 0 || distance(z, pg[k]) < distance(z, pg[static_cast<size_t>(best)])) best = static_cast<int>(k);
     }
+    return best;
+  };
+  std::vector<Complex> real_zeros;
+  for (const auto& g : zg) {
+    if (g.size() == 2 && g[0].imag() != 0.0) {
+      const int k = nearest(g, 2);
+      if (k < 0) throw InputError("internal: no second-order section left for a complex zero pair");
+      zs[static_cast<size_t>(k)] = g;
+    } else {
+      real_zeros.insert(real_zeros.end(), g.begin(), g.end());
+    }
+  }
+  for (const Complex& z : real_zeros) {
+    const int k = nearest({z}, 1);
+    if (k < 0) throw InputError("internal: no section left for a real zero");
+    zs[static_cast<size_t>(k)].push_back(z);
+  }
+  std::vector<Section> out;
+  for (size_t gi = 0; gi < pg.size(); ++gi) {
+    const auto& p = pg[gi];
+    const std::vector<Complex>& z = zs[gi];
     Section s;
     s.order = static_cast<int>(p.size());
     // Denominator 1 + a1 z^-1 + a2 z^-2 from the poles.
@@ -114,7 +119,22 @@ std::vector<Section> sections_from_roots(const std::vector<Complex>& zeros, cons
 std::vector<Section> second_order_sections(const b::TransferFunction& g) {
   if (!g.is_discrete()) throw InputError("second-order sections need a discrete transfer function");
   if (!g.is_proper()) throw InputError("an improper transfer function has no second-order sections");
-  return sections_from_roots(g.zeros(), g.poles(), g.num().leading());
+  // Roots at z = -1, 0 and 1 (Tustin's zeros at infinity, pure delays, integrators) are
+  // divided out exactly first: as repeated roots the general root finder would scatter
+  // them by eps^(1/n).
+  auto roots = [](const b::Polynomial& p) {
+    b::Polynomial rest = p;
+    std::vector<Complex> r;
+    for (double x0 : {-1.0, 0.0, 1.0}) {
+      const auto [q, m] = rest.without_root(x0);
+      rest = q;
+      for (int k = 0; k < m; ++k) r.emplace_back(x0, 0.0);
+    }
+    const auto others = rest.roots();
+    r.insert(r.end(), others.begin(), others.end());
+    return r;
+  };
+  return sections_from_roots(roots(g.num()), roots(g.den()), g.num().leading());
 }
 
 }  // namespace dmbd::codegen

@@ -68,9 +68,12 @@ struct LowerOptions {
 
 // Lower a diagram (continuous blocks discretised at the rate; discrete diagrams must
 // run at their own sample time). Transfer functions become cascades of second-order
-// sections in direct form II transposed; delays exact sample delays. InputError for an
-// algebraic loop of the discretised blocks (naming them), a rate that does not match a
-// discrete diagram, or a delay shorter than half a sample that is not zero.
+// sections in direct form II transposed; delays exact sample delays (rounded to whole
+// samples, with a warning in `warnings`, when they are not). Blocks whose loop would be
+// algebraic once discretised are merged into one state-space group. InputError for such
+// a loop through a saturation or delay (naming the blocks), a rate that does not match
+// a discrete diagram, a --block-method path that names no block, or a non-zero delay
+// shorter than half a sample.
 LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& options);
 // A single transfer function as a one-input one-output program.
 LoopProgram lower(const blocks::TransferFunction& g, const std::string& name, const LowerOptions& options);
