@@ -10,7 +10,8 @@
 #include "dmbd/codegen/interpreter.hpp"
 #include "dmbd/codegen/loop_program.hpp"
 #include "dmbd/diagrams/diagram.hpp"
-#include "dob_controller.hpp"  // generated at build time by dmbd codegen
+#include "dob_controller.hpp"        // generated at build time by dmbd codegen
+#include "dob_controller_fixed.hpp"  // the same, --scalar fixed (32-bit words)
 
 namespace {
 
@@ -78,6 +79,24 @@ void BM_GeneratedDobDouble(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kSteps);
 }
 BENCHMARK(BM_GeneratedDobDouble);
+
+void BM_GeneratedDobFixed32(benchmark::State& state) {
+  const auto u = inputs(kSteps);
+  dob_controller_fixed::Controller c;
+  dob_controller_fixed::fx::Status st{0};
+  std::vector<int32_t> uq(u.size());
+  for (size_t k = 0; k < u.size(); ++k)
+    uq[k] = dob_controller_fixed::fx::quantize32(u[k], dob_controller_fixed::kInputQ[k % 2], st);
+  int32_t y = 0;
+  for (auto _ : state) {
+    for (int k = 0; k < kSteps; ++k) {
+      c.step(&uq[2 * static_cast<size_t>(k)], &y);
+      benchmark::DoNotOptimize(y);
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * kSteps);
+}
+BENCHMARK(BM_GeneratedDobFixed32);
 
 void BM_HandWrittenDobDouble(benchmark::State& state) {
   const auto u = inputs(kSteps);
