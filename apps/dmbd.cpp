@@ -158,7 +158,7 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
   cg::LowerOptions lo;
   lo.rate_hz = parse_number(rate_text, "--rate", params);
   if (!(lo.rate_hz > 0.0) || !std::isfinite(lo.rate_hz)) throw InputError("--rate '" + rate_text + "': expected a rate > 0 Hz");
-  lo.method = b::parse_c2d_method(method_text);
+  lo.method = b::parse_c2d_method(method_text.empty() ? "tustin" : method_text);
   for (const std::string& bm : block_methods) {
     const auto eq = bm.find('=');
     if (eq == std::string::npos) throw InputError("--block-method '" + bm + "': expected BLOCK=METHOD");
@@ -198,6 +198,8 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
     source = "the transfer function " + tf;
   } else {
     const auto d = dmbd::diagrams::Diagram::load(diagram, params);
+    // The diagram's own `discretization` unless --method is given.
+    if (method_text.empty() && d->discretization()) lo.method = *d->discretization();
     program = cg::lower(*d, lo);
     if (!name.empty()) program.name = name;
     for (const auto& in : d->inputs())
@@ -582,7 +584,7 @@ int main(int argc, char** argv) {
   tune->add_flag("--json", tn.json, "Print one JSON object");
 
   struct {
-    std::string diagram, tf, rate, method = "tustin", scalar = "double", word = "32", input_range, name, out = ".";
+    std::string diagram, tf, rate, method, scalar = "double", word = "32", input_range, name, out = ".";
     std::vector<std::string> params, block_methods;
     bool verify = false, tf_given = false;
   } cg;
@@ -590,7 +592,9 @@ int main(int argc, char** argv) {
   codegen->add_option("diagram", cg.diagram, "A diagram file (YAML)");
   codegen->add_option("--tf", cg.tf, "A transfer function instead of a diagram");
   codegen->add_option("--rate", cg.rate, "Loop rate in Hz")->required();
-  codegen->add_option("--method", cg.method, "Discretisation of continuous blocks: tustin (default), zoh, backward-euler");
+  codegen->add_option("--method", cg.method,
+                      "Discretisation of continuous blocks: tustin, zoh, backward-euler (default: the diagram's "
+                      "`discretization`, else tustin)");
   codegen->add_option("--block-method", cg.block_methods, "BLOCK=METHOD: another method for one block; repeatable");
   codegen->add_option("--scalar", cg.scalar, "double (default), float or fixed");
   codegen->add_option("--word", cg.word, "Fixed-point word: 16 or 32 bits (default 32)");

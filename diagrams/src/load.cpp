@@ -113,6 +113,7 @@ class Loader {
     if (const YAML::Node n = root["discretization"]) {
       try {
         method_ = b::parse_c2d_method(n.Scalar());
+        d_->discretization_ = method_;
       } catch (const InputError& e) {
         error(n, e.what());
       }

@@ -118,7 +118,8 @@ TEST(Fixed, ErrorAgainstTheExactProgramIsWithinThePredictedBound) {
 
 TEST(Fixed, GeneratedCodeIsBitExactWithTheInterpreterForEveryExample) {
   const std::string dir = temp_dir("examples");
-  for (const char* name : {"dob_controller", "position_encoder", "force_dob"}) {
+  for (const char* name : {"dob_controller", "force_dob", "position_encoder", "position_potentiometer",
+                           "position_encoder_force", "rfsea_plant"}) {
     SCOPED_TRACE(name);
     const auto d = diagrams::Diagram::load(std::string(DMBD_EXAMPLES) + "/diagrams/" + name + ".yaml");
     LowerOptions o;

@@ -104,6 +104,9 @@ class Diagram {
   double ts() const { return ts_; }
   bool is_discrete() const { return ts_ > 0.0; }
   int pade_order() const { return pade_order_; }
+  // The diagram's own `discretization` key, if given: how its continuous blocks are
+  // discretised (a discrete diagram's pd/pid/lowpass; the default of code generation).
+  const std::optional<blocks::C2dMethod>& discretization() const { return discretization_; }
   // Parameter values after overrides, and the names in definition order.
   const blocks::ParameterMap& parameters() const { return parameters_; }
   const std::vector<std::string>& parameter_order() const { return parameter_order_; }
@@ -123,6 +126,7 @@ class Diagram {
   std::string name_, description_, file_;
   double ts_ = 0.0;
   int pade_order_ = 3;
+  std::optional<blocks::C2dMethod> discretization_;
   blocks::ParameterMap parameters_;
   std::vector<std::string> parameter_order_;
   std::vector<SignalSpec> inputs_, outputs_;
