@@ -295,12 +295,8 @@ StateSpace feedback(const StateSpace& f, const StateSpace& h, int sign) {
 // Solve (I - G) u = r where G is sparse: Tarjan's strongly connected components of the
 // dependency graph (u_i depends on u_j when G(i, j) != 0), visited so that every
 // component comes after the ones it depends on.
-Matrix solve_in_dependency_order(const Matrix& g, const Matrix& r) {
-  const int n = static_cast<int>(g.rows());
-  std::vector<std::vector<int>> dep(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      if (g(i, j) != 0.0) dep[static_cast<size_t>(i)].push_back(j);
+std::vector<std::vector<int>> strongly_connected_components(const std::vector<std::vector<int>>& dep) {
+  const int n = static_cast<int>(dep.size());
   std::vector<int> index(static_cast<size_t>(n), -1), low(static_cast<size_t>(n), 0), stack;
   std::vector<bool> on(static_cast<size_t>(n), false);
   std::vector<std::vector<int>> comps;  // in the order Tarjan closes them: dependencies first
@@ -331,6 +327,16 @@ Matrix solve_in_dependency_order(const Matrix& g, const Matrix& r) {
   };
   for (int v = 0; v < n; ++v)
     if (index[static_cast<size_t>(v)] < 0) visit(v);
+  return comps;
+}
+
+Matrix solve_in_dependency_order(const Matrix& g, const Matrix& r) {
+  const int n = static_cast<int>(g.rows());
+  std::vector<std::vector<int>> dep(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (g(i, j) != 0.0) dep[static_cast<size_t>(i)].push_back(j);
+  const std::vector<std::vector<int>> comps = strongly_connected_components(dep);
   Matrix u = Matrix::Zero(n, r.cols());
   std::vector<bool> done(static_cast<size_t>(n), false);
   for (const auto& comp : comps) {

@@ -360,39 +360,13 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
       const auto& ft = code[static_cast<size_t>(i)].feedthrough;
       if (src >= 0 && ft[std::min(k, ft.size() - 1)]) dep[static_cast<size_t>(i)].push_back(src);
     }
-  // Strongly connected components (Tarjan).
-  std::vector<int> index(static_cast<size_t>(nb), -1), low(static_cast<size_t>(nb)), stack, comp_of(static_cast<size_t>(nb), -1);
-  std::vector<bool> on(static_cast<size_t>(nb), false);
-  std::vector<std::vector<int>> comps;
-  int counter = 0;
-  std::function<void(int)> visit = [&](int v) {
-    index[static_cast<size_t>(v)] = low[static_cast<size_t>(v)] = counter++;
-    stack.push_back(v);
-    on[static_cast<size_t>(v)] = true;
-    for (int w : dep[static_cast<size_t>(v)]) {
-      if (index[static_cast<size_t>(w)] < 0) {
-        visit(w);
-        low[static_cast<size_t>(v)] = std::min(low[static_cast<size_t>(v)], low[static_cast<size_t>(w)]);
-      } else if (on[static_cast<size_t>(w)]) {
-        low[static_cast<size_t>(v)] = std::min(low[static_cast<size_t>(v)], index[static_cast<size_t>(w)]);
-      }
-    }
-    if (low[static_cast<size_t>(v)] == index[static_cast<size_t>(v)]) {
-      std::vector<int> c;
-      int w;
-      do {
-        w = stack.back();
-        stack.pop_back();
-        on[static_cast<size_t>(w)] = false;
-        comp_of[static_cast<size_t>(w)] = static_cast<int>(comps.size());
-        c.push_back(w);
-      } while (w != v);
-      std::sort(c.begin(), c.end());
-      comps.push_back(c);
-    }
-  };
-  for (int v = 0; v < nb; ++v)
-    if (index[static_cast<size_t>(v)] < 0) visit(v);
+  // Strongly connected components, each closed before the ones depending on it.
+  std::vector<std::vector<int>> comps = b::strongly_connected_components(dep);
+  std::vector<int> comp_of(static_cast<size_t>(nb), -1);
+  for (size_t k = 0; k < comps.size(); ++k) {
+    std::sort(comps[k].begin(), comps[k].end());
+    for (int i : comps[k]) comp_of[static_cast<size_t>(i)] = static_cast<int>(k);
+  }
   std::vector<Unit> units;
   for (const auto& c : comps) {
     Unit u;

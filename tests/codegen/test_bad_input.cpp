@@ -17,12 +17,6 @@ namespace {
 using namespace test;
 using diagrams::Diagram;
 
-LowerOptions at(double rate_hz) {
-  LowerOptions o;
-  o.rate_hz = rate_hz;
-  return o;
-}
-
 // The message of the InputError that f throws ("" and a failure if none).
 template <class F>
 std::string input_error(F f) {

@@ -28,12 +28,6 @@ namespace {
 using namespace test;
 using diagrams::Diagram;
 
-LowerOptions at(double rate_hz) {
-  LowerOptions o;
-  o.rate_hz = rate_hz;
-  return o;
-}
-
 // The header without its // comments (the header has no string literals).
 std::string code_only(const std::string& text) {
   std::istringstream s(text);

@@ -20,12 +20,6 @@ namespace {
 using namespace test;
 using diagrams::Diagram;
 
-LowerOptions at(double rate_hz) {
-  LowerOptions o;
-  o.rate_hz = rate_hz;
-  return o;
-}
-
 // PD loop with a 2-sample measurement delay, derived by hand. With c = 2/T (Tustin
 // s = c (1 - z^-1)/(1 + z^-1)):
 //   PD  Kp + Kd s/(tau s + 1):  (tau c + 1) u[n] + (1 - tau c) u[n-1]

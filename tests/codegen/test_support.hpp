@@ -39,6 +39,13 @@ using Sequence = std::vector<std::vector<double>>;  // [sample][channel]
 const std::string kExamples = DMBD_EXAMPLES;
 const std::string kData = DMBD_CODEGEN_TEST_DATA;
 
+// Lowering options at a rate (Tustin).
+inline LowerOptions at(double rate_hz) {
+  LowerOptions o;
+  o.rate_hz = rate_hz;
+  return o;
+}
+
 // A diagram written inline, parsed as if it lived in tests/codegen/data/ (for subsystem files).
 inline std::shared_ptr<const diagrams::Diagram> parse(const std::string& yaml) {
   return diagrams::Diagram::parse(yaml, kData + "/inline.yaml");

@@ -71,6 +71,10 @@ StateSpace feedback(const StateSpace& forward, const StateSpace& back, int sign 
 // Block-diagonal stacking: inputs and outputs concatenated.
 StateSpace append(const StateSpace& a, const StateSpace& b);
 
+// Strongly connected components of a dependency graph (dep[i]: the nodes i depends
+// on), Tarjan's algorithm; every component comes after the components it depends on.
+std::vector<std::vector<int>> strongly_connected_components(const std::vector<std::vector<int>>& dep);
+
 // Solve (I - G) U = R for a sparse G by substitution in dependency order (U_i depends
 // on U_j where G(i, j) != 0), with a dense solve only inside each strongly connected
 // group: the algebraic equations of a block diagram, where chains of large gains make
