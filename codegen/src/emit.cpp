@@ -232,18 +232,18 @@ std::string emit_fixed_header(const LoopProgram& p, const FixedProgram& f, const
       h << "    " << d << " = fx::convert" << sfx << "(fx::clamp" << sfx << "(" << name(s.terms[0].a) << ", " << word(s.lo)
         << ", " << word(s.hi) << "), " << q(s.terms[0].a) << ", " << q(s.dst) << ", status_);" << note << "\n";
     } else {
-      h << "    {" << note << "\n      " << ACC << " acc = 0;  // Q" << s.qacc << "\n";
+      h << "    {" << note << "\n      " << ACC << " acc = 0;  // Q" << s.qacc << ", headroom rule (G): no overflow\n";
       for (const FixedTerm& t : s.terms) {
         const std::string a = name(t.a);
         if (t.sign > 0) {
-          h << "      acc = fx::acc" << sfx << "_add(acc, " << a << ", " << q(t.a) << ", " << s.qacc << ", status_);\n";
+          h << "      acc = fx::acc" << sfx << "_add_g(acc, " << a << ", " << q(t.a) << ", " << s.qacc << ");\n";
         } else if (t.sign < 0) {
-          h << "      acc = fx::acc" << sfx << "_sub(acc, " << a << ", " << q(t.a) << ", " << s.qacc << ", status_);\n";
+          h << "      acc = fx::acc" << sfx << "_sub_g(acc, " << a << ", " << q(t.a) << ", " << s.qacc << ");\n";
         } else if (t.c != 0) {
           char cv[48];
           std::snprintf(cv, sizeof cv, "%.9g", std::ldexp(static_cast<double>(t.c), -t.qc));
-          h << "      acc = fx::mac" << sfx << "(acc, " << a << ", " << q(t.a) << ", " << word(t.c) << ", " << t.qc << ", "
-            << s.qacc << ", status_);  // coefficient " << cv << "\n";
+          h << "      acc = fx::mac" << sfx << "_g(acc, " << a << ", " << q(t.a) << ", " << word(t.c) << ", " << t.qc << ", "
+            << s.qacc << ");  // coefficient " << cv << "\n";
         }
       }
       h << "      " << d << " = fx::narrow" << sfx << "(acc, " << s.qacc << ", " << q(s.dst) << ", status_);\n    }\n";

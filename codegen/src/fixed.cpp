@@ -157,9 +157,10 @@ void FixedInterpreter::step(const int64_t* u, int64_t* y) {
           for (const FixedTerm& t : s.terms) {
             const auto x = static_cast<fx::Word32>(s_[static_cast<size_t>(t.a)]);
             const int qa = f_.q[static_cast<size_t>(t.a)];
-            if (t.sign > 0) acc = fx::acc32_add(acc, x, qa, s.qacc, st);
-            if (t.sign < 0) acc = fx::acc32_sub(acc, x, qa, s.qacc, st);
-            if (t.sign == 0 && t.c != 0) acc = fx::mac32(acc, x, qa, static_cast<fx::Word32>(t.c), t.qc, s.qacc, st);
+            // The accumulator format follows the headroom rule (G): unchecked forms.
+            if (t.sign > 0) acc = fx::acc32_add_g(acc, x, qa, s.qacc);
+            if (t.sign < 0) acc = fx::acc32_sub_g(acc, x, qa, s.qacc);
+            if (t.sign == 0 && t.c != 0) acc = fx::mac32_g(acc, x, qa, static_cast<fx::Word32>(t.c), t.qc, s.qacc);
           }
           dst = fx::narrow32(acc, s.qacc, qd, st);
         } else {
@@ -167,9 +168,10 @@ void FixedInterpreter::step(const int64_t* u, int64_t* y) {
           for (const FixedTerm& t : s.terms) {
             const auto x = static_cast<fx::Word16>(s_[static_cast<size_t>(t.a)]);
             const int qa = f_.q[static_cast<size_t>(t.a)];
-            if (t.sign > 0) acc = fx::acc16_add(acc, x, qa, s.qacc, st);
-            if (t.sign < 0) acc = fx::acc16_sub(acc, x, qa, s.qacc, st);
-            if (t.sign == 0 && t.c != 0) acc = fx::mac16(acc, x, qa, static_cast<fx::Word16>(t.c), t.qc, s.qacc, st);
+            // The accumulator format follows the headroom rule (G): unchecked forms.
+            if (t.sign > 0) acc = fx::acc16_add_g(acc, x, qa, s.qacc);
+            if (t.sign < 0) acc = fx::acc16_sub_g(acc, x, qa, s.qacc);
+            if (t.sign == 0 && t.c != 0) acc = fx::mac16_g(acc, x, qa, static_cast<fx::Word16>(t.c), t.qc, s.qacc);
           }
           dst = fx::narrow16(acc, s.qacc, qd, st);
         }
@@ -295,7 +297,8 @@ std::vector<double> predicted_error_bound(const LoopProgram& p, const FixedProgr
       for (const FixedTerm& t : s.terms) {
         const int qa = f.q[static_cast<size_t>(t.a)];
         const int own = t.sign == 0 ? qa + t.qc : qa;
-        if (own > s.qacc && !(t.sign == 0 && t.c == 0)) e += std::ldexp(0.5, -s.qacc);
+        // A term aligned by a floor shift: up to one LSB of the accumulator.
+        if (own > s.qacc && !(t.sign == 0 && t.c == 0)) e += std::ldexp(1.0, -s.qacc);
       }
       if (s.qacc > qd) e += std::ldexp(0.5, -qd);
     } else if (f.q[static_cast<size_t>(s.terms[0].a)] > qd) {

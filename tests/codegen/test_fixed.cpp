@@ -10,6 +10,7 @@
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <unistd.h>
 
 #include "dmbd/blocks/discretize.hpp"
 #include "dmbd/codegen/emit.hpp"
@@ -33,7 +34,8 @@ LoopProgram q_filter_program() {
 }
 
 std::string temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("dmbd_fixed_" + name);
+  // Unique per process: two test runs on one machine must not share it.
+  const fs::path d = fs::temp_directory_path() / ("dmbd_fixed_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d.string();

@@ -46,8 +46,8 @@ struct FixedProgram {
 blocks::StateSpace program_state_space(const LoopProgram& p);
 
 // Worst-case |fixed - exact| per output for inputs within their ranges: the rounding
-// at every narrowing (half an LSB of its format, and of the accumulator for every term
-// aligned by a right shift) times the L1 gain from that point to the output, plus the
+// at every narrowing (half an LSB of its format, and one LSB of the accumulator for
+// every term aligned by a floor shift) times the L1 gain from that point to the output, plus the
 // effect of the quantised coefficients (the L1 norm of the difference between the
 // quantised and the exact programs' impulse responses times the input bounds).
 std::vector<double> predicted_error_bound(const LoopProgram& p, const FixedProgram& f,
