@@ -118,6 +118,27 @@ FixedProgram make_fixed(const LoopProgram& p, const std::vector<std::pair<double
   return f;
 }
 
+namespace {
+
+// One accumulation in the runtime's arithmetic for one word width; the accumulator
+// format follows the headroom rule (G), so the unchecked forms are used.
+template <class Word, class Acc, Acc (*Add)(Acc, Word, int, int), Acc (*Sub)(Acc, Word, int, int),
+          Acc (*Mac)(Acc, Word, int, Word, int, int), Word (*Narrow)(Acc, int, int, fx::Status&)>
+int64_t accumulate_words(const FixedStatement& s, const std::vector<int64_t>& slots, const std::vector<int>& q, int qd,
+                         fx::Status& st) {
+  Acc acc = 0;
+  for (const FixedTerm& t : s.terms) {
+    const auto x = static_cast<Word>(slots[static_cast<size_t>(t.a)]);
+    const int qa = q[static_cast<size_t>(t.a)];
+    if (t.sign > 0) acc = Add(acc, x, qa, s.qacc);
+    if (t.sign < 0) acc = Sub(acc, x, qa, s.qacc);
+    if (t.sign == 0 && t.c != 0) acc = Mac(acc, x, qa, static_cast<Word>(t.c), t.qc, s.qacc);
+  }
+  return Narrow(acc, s.qacc, qd, st);
+}
+
+}  // namespace
+
 FixedInterpreter::FixedInterpreter(const LoopProgram& p, const FixedProgram& f)
     : p_(p), f_(f), s_(p.slots.size(), 0), in_(p.inputs.size(), 0), out_(p.outputs.size(), 0) {}
 
@@ -151,32 +172,12 @@ void FixedInterpreter::step(const int64_t* u, int64_t* y) {
                   : int64_t{fx::convert16(static_cast<fx::Word16>(v), qa, qd, st)};
         break;
       }
-      case FixedStatement::Kind::Sum: {
-        if (w32) {
-          fx::Acc32 acc = 0;
-          for (const FixedTerm& t : s.terms) {
-            const auto x = static_cast<fx::Word32>(s_[static_cast<size_t>(t.a)]);
-            const int qa = f_.q[static_cast<size_t>(t.a)];
-            // The accumulator format follows the headroom rule (G): unchecked forms.
-            if (t.sign > 0) acc = fx::acc32_add_g(acc, x, qa, s.qacc);
-            if (t.sign < 0) acc = fx::acc32_sub_g(acc, x, qa, s.qacc);
-            if (t.sign == 0 && t.c != 0) acc = fx::mac32_g(acc, x, qa, static_cast<fx::Word32>(t.c), t.qc, s.qacc);
-          }
-          dst = fx::narrow32(acc, s.qacc, qd, st);
-        } else {
-          fx::Acc16 acc = 0;
-          for (const FixedTerm& t : s.terms) {
-            const auto x = static_cast<fx::Word16>(s_[static_cast<size_t>(t.a)]);
-            const int qa = f_.q[static_cast<size_t>(t.a)];
-            // The accumulator format follows the headroom rule (G): unchecked forms.
-            if (t.sign > 0) acc = fx::acc16_add_g(acc, x, qa, s.qacc);
-            if (t.sign < 0) acc = fx::acc16_sub_g(acc, x, qa, s.qacc);
-            if (t.sign == 0 && t.c != 0) acc = fx::mac16_g(acc, x, qa, static_cast<fx::Word16>(t.c), t.qc, s.qacc);
-          }
-          dst = fx::narrow16(acc, s.qacc, qd, st);
-        }
+      case FixedStatement::Kind::Sum:
+        dst = w32 ? accumulate_words<fx::Word32, fx::Acc32, fx::acc32_add_g, fx::acc32_sub_g, fx::mac32_g, fx::narrow32>(
+                        s, s_, f_.q, qd, st)
+                  : accumulate_words<fx::Word16, fx::Acc16, fx::acc16_add_g, fx::acc16_sub_g, fx::mac16_g, fx::narrow16>(
+                        s, s_, f_.q, qd, st);
         break;
-      }
     }
   }
   if (!outputs_done)

@@ -1,6 +1,5 @@
 // Lowering a diagram (or one transfer function) to a loop program.
 #include <algorithm>
-#include <functional>
 #include <cctype>
 #include <cstdio>
 #include <cmath>
