@@ -1,0 +1,121 @@
+#pragma once
+// A robot as read from a URDF: links, joints, geometry and meshes. Plain data
+// (Eigen, std), no Simbody and no urdfdom types: model/src/plant.cpp builds the
+// Simbody system from it, viz/ renders its meshes, apps/ summarises it.
+//
+// Conventions: SI units; every pose is X_PC (child frame C expressed in parent
+// frame P) as an Eigen::Isometry3d; inertia is about the link's centre of mass,
+// expressed in the inertial frame's orientation rotated into the link frame.
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dmbd::model {
+
+// A triangle mesh in its file's units times the URDF scale, in the geometry frame.
+struct TriangleMesh {
+  std::string path;                            // resolved file that was read
+  std::vector<Eigen::Vector3f> vertices;       // m
+  std::vector<Eigen::Vector3f> normals;        // per vertex, unit (may be empty)
+  std::vector<std::array<int, 3>> triangles;   // indices into vertices
+};
+
+struct Geometry {
+  enum class Kind { Box, Cylinder, Sphere, Mesh };
+  Kind kind = Kind::Box;
+  Eigen::Vector3d box_size_m = Eigen::Vector3d::Zero();   // Box: full edge lengths
+  double radius_m = 0;                                    // Cylinder, Sphere
+  double length_m = 0;                                    // Cylinder (along its z)
+  std::string mesh_uri;                                   // Mesh: as written in the URDF
+  Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();   // Mesh
+  // Mesh: the loaded triangles (scale applied), or null when the file could not
+  // be found or read (then its URI is listed in RobotDescription::meshes_missing).
+  std::shared_ptr<const TriangleMesh> mesh;
+};
+
+struct Shape {
+  std::string name;                                        // may be empty
+  Eigen::Isometry3d X_LG = Eigen::Isometry3d::Identity();  // geometry frame in link frame
+  Geometry geometry;
+  Eigen::Vector4d rgba{0.7, 0.7, 0.7, 1.0};                // visuals only
+};
+
+struct Link {
+  std::string name;
+  double mass_kg = 0;                                      // 0: massless (no <inertial>)
+  Eigen::Vector3d com_m = Eigen::Vector3d::Zero();         // in link frame
+  Eigen::Matrix3d inertia_kgm2 = Eigen::Matrix3d::Zero();  // about com, link-frame axes
+  std::vector<Shape> visuals;
+  std::vector<Shape> collisions;
+};
+
+enum class JointType { Fixed, Revolute, Continuous, Prismatic, Floating, Planar };
+
+struct Joint {
+  std::string name;
+  JointType type = JointType::Fixed;
+  std::string parent, child;                                // link names
+  Eigen::Isometry3d X_PJ = Eigen::Isometry3d::Identity();  // joint (= child) frame in parent link frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();          // unit, in joint frame
+  bool has_limits = false;                                  // revolute, prismatic
+  double lower = 0, upper = 0;                              // rad or m
+  double effort = 0, velocity = 0;                          // N m or N; rad/s or m/s (0: none given)
+  double damping = 0, friction = 0;                         // N m s/rad (N s/m); N m (N)
+};
+
+struct RobotDescription {
+  std::string name;
+  std::string source;                 // the URDF file read ("" for a string)
+  std::vector<Link> links;            // links[0] is the root
+  std::vector<Joint> joints;          // parent before child (topological order)
+  std::vector<std::string> meshes_missing;  // URIs that could not be found or read
+  std::size_t meshes_loaded = 0;
+  std::vector<std::string> warnings;  // one line each: unknown tags, missing meshes...
+
+  // Index of a link/joint by name, or -1.
+  int link_index(const std::string& name) const;
+  int joint_index(const std::string& name) const;
+  // The joint whose child is the link, or -1 for the root.
+  int parent_joint_of_link(int link) const;
+  double total_mass_kg() const;       // sum of link masses
+};
+
+struct UrdfOptions {
+  // Folders searched for package://NAME/rest: <dir>/NAME/rest, then <dir>/rest.
+  // The URDF's own folder and its parents are always tried after these.
+  std::vector<std::string> package_paths;
+  bool strict = false;                // a mesh that cannot be found/read is an error
+  bool load_meshes = true;            // false: record URIs only (fast)
+};
+
+// Reads a URDF file. Throws dmbd::model::ModelError with a one-line message naming
+// the file, the line and the element ("draco.urdf:42: link 'thigh': inertia is not
+// positive definite") for malformed XML, a missing file, a loop or a second parent
+// in the tree, a NaN/inf number, a negative mass or a non-positive-definite inertia.
+RobotDescription load_urdf(const std::string& path, const UrdfOptions& options = {});
+// Same from text; `base_dir` resolves relative mesh paths, `label` names it in errors.
+RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
+                            const std::string& label, const UrdfOptions& options = {});
+
+// Default-pose forward kinematics (every joint at 0, root at identity): X_WL per link.
+std::vector<Eigen::Isometry3d> default_pose_link_frames(const RobotDescription& robot);
+
+// Summary used by `dmbd model info`.
+struct ModelSummary {
+  std::string name;
+  std::size_t links = 0;
+  std::size_t dof = 0;                // actuated joints: revolute + continuous + prismatic
+  std::size_t fixed = 0, revolute = 0, continuous = 0, prismatic = 0, floating = 0, planar = 0;
+  double total_mass_kg = 0;
+  double height_m = 0;                // vertical extent of the visual geometry, default pose
+  std::size_t meshes_loaded = 0;
+  std::vector<std::string> meshes_missing;
+};
+ModelSummary summarize(const RobotDescription& robot);
+
+}  // namespace dmbd::model

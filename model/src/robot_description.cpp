@@ -1,0 +1,30 @@
+#include "dmbd/model/robot_description.hpp"
+
+namespace dmbd::model {
+
+int RobotDescription::link_index(const std::string& name) const {
+  for (std::size_t i = 0; i < links.size(); ++i)
+    if (links[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int RobotDescription::joint_index(const std::string& name) const {
+  for (std::size_t i = 0; i < joints.size(); ++i)
+    if (joints[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int RobotDescription::parent_joint_of_link(int link) const {
+  if (link < 0 || link >= static_cast<int>(links.size())) return -1;
+  for (std::size_t i = 0; i < joints.size(); ++i)
+    if (joints[i].child == links[link].name) return static_cast<int>(i);
+  return -1;
+}
+
+double RobotDescription::total_mass_kg() const {
+  double m = 0;
+  for (const Link& l : links) m += l.mass_kg;
+  return m;
+}
+
+}  // namespace dmbd::model
