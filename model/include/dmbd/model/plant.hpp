@@ -1,0 +1,129 @@
+#pragma once
+// The simulated robot: the URDF's multibody tree in Simbody plus DRACO's series-elastic
+// actuators (rotor, ball screw, elastomer, linkage), joint limits and damping, and
+// compliant foot contact. Eigen types only; Simbody stays in model/src/.
+//
+// Inputs are held constant between calls to advance_to() (zero-order hold, as a
+// sampled controller drives it): motor currents for actuated joints, joint torques for
+// joints without an actuator (or every joint when actuators are off).
+//
+// Each actuated joint adds internal coordinates that are not joint coordinates: for an
+// RFSEA the elastomer deflection x_r (a slider carrying the reaction mass M_r) and the
+// rotor angle theta_m, tied by the rigid ball screw theta_m / N_m = dx(q) + x_r (a
+// Simbody CoordinateCoupler constraint); for an FSEA the rotor angle, coupled to the
+// joint through the elastomer force K_s (theta_m / N_m - dx(q)) + B_s (...)'. Here
+// dx(q) = x(q) - x(0) is the change of the linkage length. See docs/model.md.
+
+#include "dmbd/model/actuator.hpp"
+#include "dmbd/model/dynamics.hpp"
+#include "dmbd/model/robot_description.hpp"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dmbd::model {
+
+// Smooth Hunt-Crossley sphere/ground contact (Simbody's SmoothSphereHalfSpaceForce) on
+// every collision sphere of the robot.
+struct ContactParams {
+  double stiffness_Pa = 1e7;           // plane-strain modulus E of the Hertz law
+  double dissipation_s_per_m = 2.0;    // Hunt-Crossley c: F = F_hertz (1 + 1.5 c v)
+  double static_friction = 0.8;
+  double dynamic_friction = 0.6;
+  double viscous_friction = 0.0;
+  double transition_velocity_m_s = 0.01;
+};
+
+struct PlantOptions {
+  BaseMode base = BaseMode::Floating;
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  // root pose when fixed
+  double gravity_m_s2 = 9.81;
+  std::vector<ActuatorParams> actuators;   // one per actuated joint; empty: ideal torques
+  bool contact = true;                     // ground z = 0 under the collision spheres
+  ContactParams contact_params;
+  bool joint_limits = true;                // URDF limits as stiff one-sided stops
+  double limit_stiffness_Nm_per_rad = 5e3;
+  double limit_dissipation_s_per_rad = 1.0;
+  bool joint_damping = true;               // URDF <dynamics damping>
+  double accuracy = 1e-5;                  // integrator relative accuracy
+};
+
+struct ContactReading {
+  int link = -1;                  // RobotDescription link index
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // sphere bottom point in world
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  // on the robot
+  double penetration_m = 0;
+};
+
+class Plant {
+ public:
+  Plant(const RobotDescription& robot, const PlantOptions& options = {});
+  ~Plant();
+  Plant(const Plant&) = delete;
+  Plant& operator=(const Plant&) = delete;
+
+  const RobotDescription& description() const;
+  const PlantOptions& options() const;
+  int num_joints() const;                                  // 1-dof joint coordinates
+  const std::vector<std::string>& joint_names() const;
+  int joint_index(const std::string& name) const;           // or -1
+  // Actuator k drives joint actuated_joint(k); -1 for a joint without actuator.
+  int num_actuators() const;
+  int actuator_of_joint(int joint) const;
+  const ActuatorParams& actuator(int k) const;
+
+  // State. reset() puts every joint at 0 (floating: torso orientation from X_WB, its
+  // height such that the lowest collision spheres sink by the static deflection of their
+  // share of the weight), zero velocities, springs unloaded, time 0. The set_* calls
+  // keep the springs' deflections and make the rotor angles consistent.
+  void reset();
+  void set_joint_positions(const Eigen::VectorXd& q);
+  void set_joint_velocities(const Eigen::VectorXd& v);
+  void set_base_pose(const Eigen::Isometry3d& X_WB);       // floating only
+  void lock_joint(int joint, double q);                    // hold a joint (locked output)
+  void unlock_joint(int joint);
+
+  // Inputs (held until changed).
+  void set_currents(const Eigen::VectorXd& current_A);     // per actuator, clamped to its limit
+  void set_joint_torques(const Eigen::VectorXd& tau);      // per joint, added to actuator torque
+  void set_external_force(int link, const Eigen::Vector3d& p_L, const Eigen::Vector3d& f_W);
+  void clear_external_forces();
+
+  // Integrates to time t (s). Throws ModelError when the integrator fails or the state
+  // becomes non-finite ("simulation diverged at t = ...").
+  void advance_to(double t);
+  double time() const;
+
+  // Readings.
+  Eigen::VectorXd joint_positions() const;
+  Eigen::VectorXd joint_velocities() const;
+  Eigen::Isometry3d base_pose() const;
+  Eigen::Matrix<double, 6, 1> base_velocity() const;       // [omega_W; v_W]
+  Eigen::VectorXd actuator_forces() const;                 // sensed elastomer force K_s x_s, N
+  Eigen::VectorXd spring_deflections() const;              // x_r (RFSEA) or theta/N_m - dx (FSEA), m
+  Eigen::VectorXd motor_angles() const;                    // rad
+  Eigen::VectorXd motor_velocities() const;                // rad/s
+  Eigen::VectorXd applied_currents() const;                // after clamping, A
+  // The joint torque a controller estimates from the sensed force: F_sensed x moment arm
+  // (exact in statics; in motion the screw force also accelerates the reaction mass).
+  Eigen::VectorXd joint_torque_estimates() const;          // N m
+  std::vector<Eigen::Isometry3d> link_poses() const;       // X_WL per description link
+  std::vector<ContactReading> contacts() const;
+  Eigen::Vector3d com_position() const;
+  double total_mass_kg() const;                            // robot incl. actuator masses
+  double kinetic_energy() const;
+  double potential_energy() const;                         // gravity + springs + contact
+  Eigen::Vector3d imu_angular_velocity_B() const;          // torso, in torso frame
+  Eigen::Vector3d imu_specific_force_B() const;            // torso origin, in torso frame
+  long long integrator_steps() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dmbd::model
