@@ -1,6 +1,7 @@
 // The `dmbd` command line.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "analyze.hpp"
+#include "model_cmd.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/frequency.hpp"
@@ -126,9 +128,21 @@ void write_report(const nlohmann::json& r, const std::string& dir, const std::st
        << cell(s, "q16") << " | " << cell(s, "q32") << " | " << cell(s, "q") << " |\n";
   }
   if (r.contains("predicted_error_bound")) {
-    md << "\n## Quantisation\n\nPredicted worst-case output error (rounding and quantised coefficients):";
-    for (const auto& b : r["predicted_error_bound"]) md << " " << (b.is_null() ? std::string("none") : fmt::format("{:.3g}", b.get<double>()));
-    md << ". Frequency response of the quantised loop against the exact one: "
+    const auto& h = r["predicted_error_bound_horizon"];
+    md << "\n## Quantisation\n\nPredicted worst case of |fixed - exact| per output (rounding and quantised "
+          "coefficients, inputs within their ranges, from reset), under the hypothesis: "
+       << h["hypothesis"].get<std::string>() << ".\n\n| output | over " << h["steps"].get<int>() << " steps ("
+       << fmt::format("{:.6g}", h["seconds"].get<double>()) << " s) | rounding | coefficients | any number of steps |\n"
+       << "|---|---|---|---|---|\n";
+    for (size_t j = 0; j < r["predicted_error_bound"].size(); ++j) {
+      const auto& inf = r["predicted_error_bound"][j];
+      md << "| " << h["outputs"][j].get<std::string>() << " | " << fmt::format("{:.3g}", h["bound"][j].get<double>())
+         << " | " << fmt::format("{:.3g}", h["rounding"][j].get<double>()) << " | "
+         << fmt::format("{:.3g}", h["coefficients"][j].get<double>()) << " | "
+         << (inf.is_null() ? std::string("none (a response does not decay)") : fmt::format("{:.3g}", inf.get<double>()))
+         << " |\n";
+    }
+    md << "\nFrequency response of the quantised loop against the exact one: "
        << fmt::format("{:.3g} dB, {:.3g} deg", r["frequency_response_deviation"]["max_db"].get<double>(),
                       r["frequency_response_deviation"]["max_deg"].get<double>())
        << " at most.\n\n| pole (exact) | pole (quantised) |\n|---|---|\n";
@@ -143,6 +157,29 @@ void write_report(const nlohmann::json& r, const std::string& dir, const std::st
     md << "\n## Verification\n\n" << v["samples"].get<int>() << " samples (chirp and step), max |generated - "
        << "interpreter| = " << v["max_abs_error"].get<double>() << ", " << v["ns_per_step"].get<double>()
        << " ns/step, compiled with `" << v["compiler"].get<std::string>() << "`.\n";
+    if (v.contains("bound_check")) {
+      md << "\nFixed point against the exact program (the bound over " << r["predicted_error_bound_horizon"]["steps"].get<int>()
+         << " steps):\n\n| run | input scale | hypothesis | steps with a saturation block engaged (exact / fixed) | "
+            "steps with a word saturated | first step breaking it | max error per output | covered steps | within |\n"
+            "|---|---|---|---|---|---|---|---|---|\n";
+      for (const char* run : {"full", "clamp_free"}) {
+        const auto& c = v["bound_check"][run];
+        if (c.is_null()) {
+          if (std::string(run) == "clamp_free" && !v["bound_check"]["full"]["hypothesis_held"].get<bool>())
+            md << "| " << run << " | - | no scaled input down to 2^-40 keeps every saturation block idle | | | | | | |\n";
+          continue;
+        }
+        std::string errs;
+        for (const auto& e : c["max_error"]) errs += (errs.empty() ? "" : ", ") + fmt::format("{:.3g}", e.get<double>());
+        md << "| " << run << " | " << fmt::format("{:.6g}", c["scale"].get<double>()) << " | "
+           << (c["hypothesis_held"].get<bool>() ? "held" : "not held") << " | " << c["clamp_steps_exact"].get<long>()
+           << " / " << c["clamp_steps_fixed"].get<long>() << " | " << c["saturation_steps"].get<long>() << " | "
+           << (c["first_violation"].get<int>() < 0 ? std::string("-") : std::to_string(c["first_violation"].get<int>()))
+           << " | " << errs << " | " << c["covered_steps"].get<int>() << " | "
+           << (c["covered_steps"].get<int>() == 0 ? "-" : c["within"].get<bool>() ? "yes" : "NO")
+           << " |\n";
+      }
+    }
   }
   const std::string text = md.str();
   dmbd::viz::write_file_atomic(base + ".md", std::vector<unsigned char>(text.begin(), text.end()));
@@ -260,10 +297,24 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
       if (fx->simulated[k]) slots[k]["bound"] = fx->bound[k];
     }
     report["slots"] = slots;
-    const auto bound = cg::predicted_error_bound(program, *fx, ranges);
-    nlohmann::json pb = nlohmann::json::array();
-    for (double v : bound) pb.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+    // The worst case of |fixed - exact| per output: over any number of steps (null where
+    // rounding errors accumulate without bound), and over the verification run's length.
+    const cg::ErrorBound bound = cg::predicted_error_bound(program, *fx, ranges, cg::kVerifySamples);
+    nlohmann::json pb = nlohmann::json::array(), names = nlohmann::json::array();
+    for (double v : bound.infinite) pb.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr));
+    for (int k : program.outputs) names.push_back(program.slots[static_cast<size_t>(k)].name);
     report["predicted_error_bound"] = pb;
+    report["predicted_error_bound_horizon"] = {
+        {"steps", bound.horizon},
+        {"seconds", bound.horizon * program.ts},
+        {"outputs", names},
+        {"bound", bound.over_horizon},
+        {"rounding", bound.rounding},
+        {"coefficients", bound.coefficients},
+        {"rounding_sources", bound.sources},
+        {"hypothesis", "at every step from reset, no saturation block engaged (input outside its limits) in the exact "
+                       "or the fixed program and no word saturated in the fixed one; the bound then holds at every "
+                       "step before the first that breaks it"}};
     const b::StateSpace exact = cg::program_state_space(program), quant = cg::program_state_space(fx->quantised);
     nlohmann::json pe = nlohmann::json::array(), pq = nlohmann::json::array();
     for (const auto& z : exact.poles()) pe.push_back({z.real(), z.imag()});
@@ -293,21 +344,85 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
     std::cout << "verify: " << v.samples << " samples (chirp + step), max |generated - interpreter| = " << v.max_abs_error
               << " (outputs up to " << v.max_output << "), SQNR " << v.sqnr_db << " dB, " << v.saturations
               << " saturations, " << v.ns_per_step << " ns/step\n";
+    bool exceeded = false;
     if (fx) {
-      double bound = 0.0;
-      for (double bv : v.predicted_bound) bound = std::max(bound, bv);
-      std::cout << "verify: fixed point against the exact (double) program: max error " << v.max_abs_error_vs_exact
-                << ", predicted bound " << bound
-                << (!std::isfinite(bound) ? " (none: rounding errors can accumulate, e.g. integral action)"
-                                          : v.max_abs_error_vs_exact <= bound ? " (within)" : " (EXCEEDED)")
-                << "\n";
+      // The predicted bound per output and, on each run, whether its hypothesis held.
+      auto check_json = [&](const cg::BoundCheck& c) {
+        if (c.steps == 0) return nlohmann::json(nullptr);
+        return nlohmann::json{{"scale", c.scale}, {"steps", c.steps}, {"hypothesis_held", c.hypothesis_held()},
+                              {"clamp_steps_exact", c.clamp_steps_exact}, {"clamp_steps_fixed", c.clamp_steps_fixed},
+                              {"saturation_steps", c.saturation_steps}, {"violation_steps", c.violation_steps},
+                              {"first_violation", c.first_violation},
+                              {"covered_steps", c.covered_steps}, {"max_error", c.max_error},
+                              {"max_error_covered", c.max_error_covered}, {"within", c.within(v.bound)}};
+      };
       report["verification"]["max_abs_error_vs_exact"] = v.max_abs_error_vs_exact;
+      // clamp_free: the scaled run, when the hypothesis broke on the full one (null: not
+      // needed, or no scaled input keeps every saturation block idle).
+      report["verification"]["bound_check"] = {
+          {"full", check_json(v.full)},
+          {"clamp_free", v.full.hypothesis_held() ? nlohmann::json(nullptr) : check_json(v.clamp_free)}};
+      const double rate = program.rate_hz;
+      std::cout << fmt::format("verify: fixed point against the exact (double) program; predicted bound: the worst case "
+                               "over {} steps ({:.6g} s at {:.6g} Hz) from reset, for inputs within their ranges, while no "
+                               "saturation block engages in either program and no word saturates\n",
+                               v.bound.horizon, v.bound.horizon / rate, rate);
+      auto describe = [&](const cg::BoundCheck& c, const char* what) {
+        std::string line = fmt::format("verify: {}: ", what);
+        if (c.hypothesis_held()) {
+          line += "hypothesis held on every step";
+        } else {
+          line += fmt::format("hypothesis broken on {} of {} steps (saturation block engaged: {} steps exact, {} fixed; "
+                              "word saturated: {}), first at step {}: ",
+                              c.violation_steps, c.steps, c.clamp_steps_exact, c.clamp_steps_fixed, c.saturation_steps,
+                              c.first_violation);
+          line += c.covered_steps == 0 ? std::string("the bound covers no step of this run")
+                                       : fmt::format("the bound covers the {} steps before it", c.covered_steps);
+        }
+        std::cout << line << "\n";
+      };
+      describe(v.full, "full-range run");
+      if (!v.full.hypothesis_held()) {
+        if (v.clamp_free.steps > 0)
+          describe(v.clamp_free, fmt::format("clamp-free run (the input scaled by 2^{}, generated code)",
+                                             static_cast<int>(std::lround(std::log2(v.clamp_free.scale))))
+                                     .c_str());
+        else
+          std::cout << "verify: no scaled copy of the input (down to 2^-40) keeps every saturation block idle\n";
+      }
+      for (size_t j = 0; j < program.outputs.size(); ++j) {
+        const auto& sl = program.slots[static_cast<size_t>(program.outputs[j])];
+        std::string line = fmt::format("verify:   {}{}: bound {:.3g} over {} steps (infinite horizon: {})", sl.name,
+                                       sl.unit.empty() ? "" : " [" + sl.unit + "]", v.bound.over_horizon[j], v.bound.horizon,
+                                       std::isfinite(v.bound.infinite[j]) ? fmt::format("{:.3g}", v.bound.infinite[j])
+                                                                          : std::string("none, a response does not decay"));
+        auto part = [&](const cg::BoundCheck& c, const char* what) {
+          line += fmt::format("; {}: max error {:.3g}", what, c.max_error[j]);
+          if (c.hypothesis_held()) {
+            line += c.max_error[j] <= v.bound.over_horizon[j] ? " (within)" : " (EXCEEDED)";
+          } else {
+            line += c.covered_steps == 0 ? std::string(" (not covered)")
+                                         : fmt::format(", {:.3g} over the covered steps{}", c.max_error_covered[j],
+                                                       c.max_error_covered[j] <= v.bound.over_horizon[j] ? " (within)"
+                                                                                                          : " (EXCEEDED)");
+          }
+        };
+        part(v.full, "full run");
+        if (!v.full.hypothesis_held() && v.clamp_free.steps > 0) part(v.clamp_free, "clamp-free run");
+        std::cout << line << "\n";
+      }
+      exceeded = !v.full.within(v.bound) || (v.clamp_free.steps > 0 && !v.clamp_free.within(v.bound));
     }
     std::filesystem::remove_all(work);
     write_report(report, out_dir, program.name);
     {
       if (v.max_abs_error != 0.0) {
         std::cerr << "dmbd: error: generated code differs from the interpreter (it must be bit-identical)\n";
+        return 1;
+      }
+      if (exceeded) {
+        std::cerr << "dmbd: error: the fixed-point error exceeds its predicted bound on steps where the bound's "
+                     "hypothesis held (a defect of the generator or of the bound)\n";
         return 1;
       }
     }
@@ -604,6 +719,8 @@ int main(int argc, char** argv) {
   codegen->add_option("--param", cg.params, "NAME=VALUE parameter override; repeatable");
   codegen->add_flag("--verify", cg.verify, "Compile the header and compare it with the interpreter on a chirp and a step");
 
+  dmbd::apps::ModelCommand model_cmd(app);  // dmbd model info
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -622,6 +739,7 @@ int main(int argc, char** argv) {
   try {
     an.tf_given = analyze->get_option("--tf")->count() > 0;
     if (*analyze) return run_analyze(an);
+    if (model_cmd.selected()) return model_cmd.run();
     if (*tune) {
       const b::ParameterMap params = parse_params(tn.params);
       const double overshoot = parse_number(tn.overshoot, "--max-overshoot");

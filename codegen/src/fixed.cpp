@@ -1,7 +1,9 @@
 #include "dmbd/codegen/fixed.hpp"
 
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "dmbd/blocks/error.hpp"
@@ -145,6 +147,7 @@ FixedInterpreter::FixedInterpreter(const LoopProgram& p, const FixedProgram& f)
 void FixedInterpreter::reset() {
   std::fill(s_.begin(), s_.end(), 0);
   saturations_ = 0;
+  clamp_events_ = 0;
 }
 
 void FixedInterpreter::step(const int64_t* u, int64_t* y) {
@@ -165,6 +168,7 @@ void FixedInterpreter::step(const int64_t* u, int64_t* y) {
         const int qa = f_.q[static_cast<size_t>(s.terms[0].a)];
         const int64_t x = s_[static_cast<size_t>(s.terms[0].a)];
         int64_t v = x;
+        if (s.kind == FixedStatement::Kind::Clamp && (x < s.lo || x > s.hi)) ++clamp_events_;
         if (s.kind == FixedStatement::Kind::Clamp)
           v = w32 ? fx::clamp32(static_cast<fx::Word32>(v), static_cast<fx::Word32>(s.lo), static_cast<fx::Word32>(s.hi))
                   : fx::clamp16(static_cast<fx::Word16>(v), static_cast<fx::Word16>(s.lo), static_cast<fx::Word16>(s.hi));
@@ -202,67 +206,45 @@ void FixedInterpreter::step_real(const double* u, double* y) {
 
 }  // namespace dmbd::codegen
 
+
 namespace dmbd::codegen {
 
-namespace {
-
-// L1 norms, per output, of the impulse response from an injection added to slot `at`
-// right after it is written (at -1: from program input `input`).
-std::vector<double> l1_to_outputs(const LoopProgram& p, int at, int input, int max_samples = 200000) {
+blocks::StateSpace program_state_space(const LoopProgram& p, const std::vector<int>& inject_at) {
   LoopProgram q = p;
-  int src = -1;
-  if (at >= 0) {
-    q.slots.push_back({"injection", SlotKind::Input, "", ""});
-    src = static_cast<int>(q.slots.size()) - 1;
-    q.inputs.push_back(src);
-    Op inj;
-    inj.kind = OpKind::Mac;
-    inj.dst = at;
-    inj.a = src;
-    inj.c = 1.0;
-    // After the last writer of `at`; an input slot: first thing in the step.
-    bool placed = false;
-    for (auto* ops : {&q.update_ops, &q.output_ops}) {
-      for (size_t k = ops->size(); k-- > 0 && !placed;)
-        if ((*ops)[k].dst == at) {
-          ops->insert(ops->begin() + static_cast<long>(k) + 1, inj);
-          placed = true;
-        }
-      if (placed) break;
-    }
-    if (!placed) q.output_ops.insert(q.output_ops.begin(), inj);
-  }
   // Saturations as identity (the linear part).
   for (auto* ops : {&q.output_ops, &q.update_ops})
     for (Op& o : *ops)
       if (o.kind == OpKind::Clamp) o.kind = OpKind::Copy;
-  Interpreter<double> it(q);
-  const size_t ni = q.inputs.size(), no = q.outputs.size();
-  std::vector<double> u(ni, 0.0), y(no, 0.0), l1(no, 0.0);
-  const size_t hit = at >= 0 ? ni - 1 : static_cast<size_t>(input);
-  double top = 0.0;
-  int quiet = 0;
-  for (int n = 0; n < max_samples; ++n) {
-    std::fill(u.begin(), u.end(), 0.0);
-    if (n == 0) u[hit] = 1.0;
-    it.step(u.data(), y.data());
-    double now = 0.0;
-    for (size_t k = 0; k < no; ++k) l1[k] += std::abs(y[k]);
-    for (double v : it.slots()) now = std::max(now, std::abs(v)), top = std::max(top, std::abs(v));
-    quiet = now <= 1e-13 * top ? quiet + 1 : 0;
-    if (quiet >= 16) return l1;
+  // Injections: a new input per listed slot, added right after the slot's last writer.
+  if (!inject_at.empty()) {
+    std::vector<std::vector<Op>> after_output(q.output_ops.size()), after_update(q.update_ops.size());
+    std::vector<Op> at_start;
+    for (int at : inject_at) {
+      q.slots.push_back({"injection_" + std::to_string(q.slots.size()), SlotKind::Input, "", ""});
+      const int src = static_cast<int>(q.slots.size()) - 1;
+      q.inputs.push_back(src);
+      Op inj;
+      inj.kind = OpKind::Mac;
+      inj.dst = at;
+      inj.a = src;
+      inj.c = 1.0;
+      bool placed = false;
+      for (size_t k = q.update_ops.size(); k-- > 0 && !placed;)
+        if (q.update_ops[k].dst == at) after_update[k].push_back(inj), placed = true;
+      for (size_t k = q.output_ops.size(); k-- > 0 && !placed;)
+        if (q.output_ops[k].dst == at) after_output[k].push_back(inj), placed = true;
+      if (!placed) at_start.push_back(inj);
+    }
+    auto rebuild = [](const std::vector<Op>& ops, const std::vector<std::vector<Op>>& after, std::vector<Op> head) {
+      for (size_t k = 0; k < ops.size(); ++k) {
+        head.push_back(ops[k]);
+        head.insert(head.end(), after[k].begin(), after[k].end());
+      }
+      return head;
+    };
+    q.output_ops = rebuild(q.output_ops, after_output, at_start);
+    q.update_ops = rebuild(q.update_ops, after_update, {});
   }
-  for (double& v : l1) v = v > 0.0 ? INFINITY : 0.0;
-  return l1;
-}
-
-}  // namespace
-
-blocks::StateSpace program_state_space(const LoopProgram& p) {
-  LoopProgram q = p;
-  for (auto* ops : {&q.output_ops, &q.update_ops})
-    for (Op& o : *ops)
-      if (o.kind == OpKind::Clamp) o.kind = OpKind::Copy;
   const int nx = static_cast<int>(q.states.size()), nu = static_cast<int>(q.inputs.size()),
             ny = static_cast<int>(q.outputs.size());
   blocks::Matrix a(nx, nx), b(nx, nu), c(ny, nx), d(ny, nu);
@@ -284,10 +266,88 @@ blocks::StateSpace program_state_space(const LoopProgram& p) {
   return blocks::StateSpace(a, b, c, d, p.ts);
 }
 
-std::vector<double> predicted_error_bound(const LoopProgram& p, const FixedProgram& f,
-                                          const std::vector<std::pair<double, double>>& ranges) {
+ImpulseL1 impulse_l1(const blocks::StateSpace& ss, int horizon, int max_samples) {
+  const blocks::Matrix &A = ss.a(), &B = ss.b(), &C = ss.c(), &D = ss.d();
+  const long n = A.rows(), m = B.cols(), p = C.rows();
+  horizon = std::max(horizon, 0);
+  max_samples = std::max(max_samples, horizon);
+  ImpulseL1 r;
+  blocks::Matrix sum = D.cwiseAbs();  // samples 0 .. k
+  r.truncated = horizon > 0 ? sum : blocks::Matrix::Zero(p, m);
+  // Per input: the largest state magnitude so far, the run of quiet samples, decayed.
+  std::vector<double> top(static_cast<size_t>(m), 0.0);
+  std::vector<int> quiet(static_cast<size_t>(m), 0);
+  std::vector<char> decayed(static_cast<size_t>(m), n == 0 ? 1 : 0);
+  std::vector<char> endless(static_cast<size_t>(m), 0);  // will not decay: +inf
+  Eigen::MatrixXi seen = Eigen::MatrixXi::Zero(p, m);      // output sees a state of an endless input
+  std::vector<long> active;                                // inputs still simulated
+  for (long j = 0; j < m; ++j) active.push_back(j);
+  blocks::Matrix X = B;  // x_k for the active inputs, k = 1 first
+  bool checked = false;  // the check for responses that will not decay, done once
+  auto compact = [&](const std::vector<long>& keep) {
+    blocks::Matrix nx(n, static_cast<long>(keep.size()));
+    for (size_t i = 0, w = 0; i < active.size(); ++i)
+      if (w < keep.size() && active[i] == keep[w]) nx.col(static_cast<long>(w++)) = X.col(static_cast<long>(i));
+    X = nx;
+    active = keep;
+  };
+  for (long k = 1; n > 0 && k < max_samples && !active.empty(); ++k) {
+    // Sample k of the output, and whether the state response has decayed.
+    const blocks::Matrix Y = C * X;
+    for (size_t i = 0; i < active.size(); ++i) {
+      const long j = active[i];
+      sum.col(j) += Y.col(static_cast<long>(i)).cwiseAbs();
+      const double now = X.col(static_cast<long>(i)).cwiseAbs().maxCoeff();
+      const auto ju = static_cast<size_t>(j);
+      top[ju] = std::max(top[ju], now);
+      quiet[ju] = now <= 1e-13 * top[ju] ? quiet[ju] + 1 : 0;
+      if (quiet[ju] >= 16) decayed[ju] = 1;
+    }
+    if (k + 1 == horizon) r.truncated = sum;
+    if (k + 1 >= horizon) {
+      if (!checked) {
+        checked = true;
+        // Past the horizon only the infinite sums remain: inputs whose state at
+        // max_samples is still above 1e-13 of its peak so far will not decay.
+        blocks::Matrix P = blocks::Matrix::Identity(n, n), S = A;
+        for (long e = max_samples - k; e > 0; e >>= 1) {
+          if (e & 1) P = P * S;
+          S = S * S;
+        }
+        const blocks::Matrix XK = P * X, YK = C * XK;
+        for (size_t i = 0; i < active.size(); ++i) {
+          const long j = active[i];
+          const auto ju = static_cast<size_t>(j);
+          if (decayed[ju] || XK.col(static_cast<long>(i)).cwiseAbs().maxCoeff() <= 1e-13 * top[ju]) continue;
+          endless[ju] = 1;
+          // Outputs that see the state that stays (an output blind to it keeps its sum).
+          for (long o = 0; o < p; ++o)
+            if (!(YK(o, static_cast<long>(i)) == 0.0)) seen(o, j) = 1;
+        }
+      }
+      std::vector<long> keep;
+      for (long j : active)
+        if (!decayed[static_cast<size_t>(j)] && !endless[static_cast<size_t>(j)]) keep.push_back(j);
+      if (keep.size() != active.size()) compact(keep);
+    }
+    X = A * X;
+  }
+  r.infinite = sum;
+  for (long j = 0; j < m; ++j)
+    if (!decayed[static_cast<size_t>(j)])
+      for (long i = 0; i < p; ++i)
+        if (sum(i, j) > 0.0 || seen(i, j)) r.infinite(i, j) = std::numeric_limits<double>::infinity();
+  return r;
+}
+
+ErrorBound predicted_error_bound(const LoopProgram& p, const FixedProgram& f,
+                                 const std::vector<std::pair<double, double>>& ranges, int horizon) {
   const size_t no = p.outputs.size();
-  std::vector<double> bound(no, 0.0);
+  ErrorBound r;
+  r.horizon = horizon;
+  r.rounding.assign(no, 0.0);
+  r.coefficients.assign(no, 0.0);
+  std::vector<double> rounding_inf(no, 0.0), coefficients_inf(no, 0.0);
   // Rounding sources: per written slot, the largest error one step can add there.
   std::vector<double> err(p.slots.size(), 0.0);
   for (int k : p.inputs) err[static_cast<size_t>(k)] += std::ldexp(0.5, -f.q[static_cast<size_t>(k)]);
@@ -307,35 +367,52 @@ std::vector<double> predicted_error_bound(const LoopProgram& p, const FixedProgr
     }
     err[static_cast<size_t>(s.dst)] += e;
   }
-  for (size_t k = 0; k < p.slots.size(); ++k) {
-    if (err[k] == 0.0) continue;
-    const auto g = l1_to_outputs(p, static_cast<int>(k), -1);
-    for (size_t j = 0; j < no; ++j) bound[j] += err[k] * g[j];
+  std::vector<int> sources;
+  for (size_t k = 0; k < p.slots.size(); ++k)
+    if (err[k] > 0.0) sources.push_back(static_cast<int>(k));
+  r.sources = static_cast<int>(sources.size());
+  // Rounding: the responses from the injections, in the quantised program (where the
+  // fixed program rounds), one column per source.
+  if (!sources.empty()) {
+    const blocks::StateSpace all = program_state_space(f.quantised, sources);
+    std::vector<int> outs, cols;
+    for (size_t j = 0; j < no; ++j) outs.push_back(static_cast<int>(j));
+    for (size_t k = 0; k < sources.size(); ++k) cols.push_back(static_cast<int>(p.inputs.size() + k));
+    const ImpulseL1 g = impulse_l1(all.select(outs, cols), horizon);
+    for (size_t j = 0; j < no; ++j)
+      for (size_t k = 0; k < sources.size(); ++k) {
+        const double e = err[static_cast<size_t>(sources[k])];
+        r.rounding[j] += e * g.truncated(static_cast<long>(j), static_cast<long>(k));
+        rounding_inf[j] += e * g.infinite(static_cast<long>(j), static_cast<long>(k));
+      }
   }
-  // Quantised coefficients: the difference of the two programs' impulse responses.
+  // Quantised coefficients: the difference of the two programs' impulse responses, as
+  // one model with both programs' states side by side.
   const blocks::StateSpace exact = program_state_space(p), quant = program_state_space(f.quantised);
+  const long ne = exact.num_states(), nq = quant.num_states();
+  blocks::Matrix a = blocks::Matrix::Zero(ne + nq, ne + nq), b(ne + nq, exact.num_inputs()), c(exact.num_outputs(), ne + nq);
+  a.topLeftCorner(ne, ne) = exact.a();
+  a.bottomRightCorner(nq, nq) = quant.a();
+  b.topRows(ne) = exact.b();
+  b.bottomRows(nq) = quant.b();
+  c.leftCols(ne) = -exact.c();
+  c.rightCols(nq) = quant.c();
+  const ImpulseL1 dh = impulse_l1(blocks::StateSpace(a, b, c, quant.d() - exact.d(), p.ts), horizon);
   for (size_t i = 0; i < p.inputs.size(); ++i) {
-    const double r = i < ranges.size() ? std::max(std::abs(ranges[i].first), std::abs(ranges[i].second)) : 1.0;
-    blocks::Vector xe = blocks::Vector::Zero(exact.num_states()), xq = blocks::Vector::Zero(quant.num_states());
-    std::vector<double> l1(no, 0.0);
-    double top = 0.0;
-    int quiet = 0;
-    for (int n = 0; n < 200000; ++n) {
-      const double u = n == 0 ? 1.0 : 0.0;
-      const blocks::Vector ye = exact.c() * xe + exact.d().col(static_cast<long>(i)) * u;
-      const blocks::Vector yq = quant.c() * xq + quant.d().col(static_cast<long>(i)) * u;
-      xe = exact.a() * xe + exact.b().col(static_cast<long>(i)) * u;
-      xq = quant.a() * xq + quant.b().col(static_cast<long>(i)) * u;
-      double now = 0.0;
-      for (size_t j = 0; j < no; ++j) l1[j] += std::abs(yq(static_cast<long>(j)) - ye(static_cast<long>(j)));
-      now = std::max(xe.size() ? xe.cwiseAbs().maxCoeff() : 0.0, xq.size() ? xq.cwiseAbs().maxCoeff() : 0.0);
-      top = std::max(top, now);
-      quiet = now <= 1e-13 * top ? quiet + 1 : 0;
-      if (quiet >= 16) break;
+    const double range = i < ranges.size() ? std::max(std::abs(ranges[i].first), std::abs(ranges[i].second)) : 1.0;
+    if (range == 0.0) continue;  // an input that cannot move contributes nothing (not 0 x inf)
+    for (size_t j = 0; j < no; ++j) {
+      r.coefficients[j] += range * dh.truncated(static_cast<long>(j), static_cast<long>(i));
+      coefficients_inf[j] += range * dh.infinite(static_cast<long>(j), static_cast<long>(i));
     }
-    for (size_t j = 0; j < no; ++j) bound[j] += r * l1[j];
   }
-  return bound;
+  r.over_horizon.resize(no);
+  r.infinite.resize(no);
+  for (size_t j = 0; j < no; ++j) {
+    r.over_horizon[j] = r.rounding[j] + r.coefficients[j];
+    r.infinite[j] = rounding_inf[j] + coefficients_inf[j];
+  }
+  return r;
 }
 
 }  // namespace dmbd::codegen

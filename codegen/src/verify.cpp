@@ -51,6 +51,72 @@ std::vector<double> interpret(const LoopProgram& p, const std::vector<std::vecto
 
 }  // namespace
 
+bool BoundCheck::within(const ErrorBound& b) const {
+  for (size_t j = 0; j < max_error_covered.size(); ++j)
+    if (!(j < b.over_horizon.size() && max_error_covered[j] <= b.over_horizon[j])) return false;
+  return true;
+}
+
+BoundCheck check_bound(const LoopProgram& p, const FixedProgram& f, const std::vector<std::vector<double>>& u,
+                       int horizon, const std::vector<double>* fixed_outputs) {
+  const size_t no = p.outputs.size();
+  BoundCheck c;
+  c.scale = 1.0;
+  c.steps = static_cast<int>(u.size());
+  c.max_error.assign(no, 0.0);
+  c.max_error_covered.assign(no, 0.0);
+  Interpreter<double> exact(p);
+  FixedInterpreter fi(p, f);
+  std::vector<double> ye(no), yf(no);
+  for (size_t n = 0; n < u.size(); ++n) {
+    const auto ce = exact.clamp_events(), cf = fi.clamp_events();
+    const auto sat = fi.saturations();
+    exact.step(u[n].data(), ye.data());
+    fi.step_real(u[n].data(), yf.data());
+    const bool engaged_exact = exact.clamp_events() != ce, engaged_fixed = fi.clamp_events() != cf,
+               saturated = fi.saturations() != sat;
+    c.clamp_steps_exact += engaged_exact;
+    c.clamp_steps_fixed += engaged_fixed;
+    c.saturation_steps += saturated;
+    c.violation_steps += engaged_exact || engaged_fixed || saturated;
+    if ((engaged_exact || engaged_fixed || saturated) && c.first_violation < 0) c.first_violation = static_cast<int>(n);
+    const bool covered = c.first_violation < 0 && static_cast<int>(n) < horizon;
+    c.covered_steps += covered;
+    for (size_t j = 0; j < no; ++j) {
+      double y = yf[j];
+      if (fixed_outputs) {
+        y = (*fixed_outputs)[n * no + j];
+        c.max_vs_interpreter = std::max(c.max_vs_interpreter, std::abs(y - yf[j]));
+      }
+      const double e = std::abs(y - ye[j]);
+      c.max_error[j] = std::max(c.max_error[j], e);
+      if (covered) c.max_error_covered[j] = std::max(c.max_error_covered[j], e);
+    }
+  }
+  return c;
+}
+
+std::vector<std::vector<double>> scaled_inputs(const std::vector<std::vector<double>>& u,
+                                               const std::vector<std::pair<double, double>>& ranges, double s) {
+  std::vector<std::vector<double>> v = u;
+  for (auto& row : v)
+    for (size_t j = 0; j < row.size(); ++j) {
+      const auto [lo, hi] = j < ranges.size() ? ranges[j] : std::make_pair(-1.0, 1.0);
+      const double c = std::min(std::max(0.0, lo), hi);
+      row[j] = c + s * (row[j] - c);
+    }
+  return v;
+}
+
+double clamp_free_scale(const LoopProgram& p, const FixedProgram& f, const std::vector<std::vector<double>>& u,
+                        const std::vector<std::pair<double, double>>& ranges) {
+  for (int k = 0; k <= 40; ++k) {
+    const double s = std::ldexp(1.0, -k);
+    if (check_bound(p, f, scaled_inputs(u, ranges, s), static_cast<int>(u.size())).hypothesis_held()) return s;
+  }
+  return 0.0;
+}
+
 VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& header, const std::string& work_dir,
                     const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed) {
   VerifyResult r;
@@ -108,17 +174,22 @@ VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& head
       }
     throw InputError("the generated code does not compile: " + first + " (full log: " + log.string() + ")");
   }
-  if (std::system(("'" + bin.string() + "' '" + (fs::path(work_dir) / "inputs.bin").string() + "' '" + out.string() +
-                   "' > '" + timing.string() + "'").c_str()) != 0)
-    throw InputError("the verification harness failed to run");
-  std::ifstream(timing) >> r.ns_per_step >> r.saturations;
-  std::vector<double> got;
-  {
-    std::ifstream f(out, std::ios::binary);
+  // Runs the harness on an input file; returns the generated code's outputs.
+  auto run = [&](const fs::path& inputs, const fs::path& outputs, const fs::path& timing_file, size_t rows) {
+    if (std::system(("'" + bin.string() + "' '" + inputs.string() + "' '" + outputs.string() + "' > '" +
+                     timing_file.string() + "'").c_str()) != 0)
+      throw InputError("the verification harness failed to run");
+    std::vector<double> values;
+    std::ifstream f(outputs, std::ios::binary);
     double v;
-    while (f.read(reinterpret_cast<char*>(&v), sizeof v)) got.push_back(v);
-  }
+    while (f.read(reinterpret_cast<char*>(&v), sizeof v)) values.push_back(v);
+    if (values.size() != rows * p.outputs.size()) throw InputError("the verification harness wrote the wrong number of outputs");
+    return values;
+  };
+  const std::vector<double> got = run(fs::path(work_dir) / "inputs.bin", out, timing, u.size());
+  std::ifstream(timing) >> r.ns_per_step >> r.saturations;
   std::vector<double> want;
+  double bit_error = 0.0;  // |generated - interpreter| on the clamp-free run, when there is one
   if (fixed) {
     FixedInterpreter fi(p, *fixed);
     std::vector<double> yo(p.outputs.size());
@@ -126,10 +197,29 @@ VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& head
       fi.step_real(row.data(), yo.data());
       want.insert(want.end(), yo.begin(), yo.end());
     }
-    const std::vector<double> exact = interpret<double>(p, u);
-    for (size_t k = 0; k < exact.size() && k < got.size(); ++k)
-      r.max_abs_error_vs_exact = std::max(r.max_abs_error_vs_exact, std::abs(got[k] - exact[k]));
-    r.predicted_bound = predicted_error_bound(p, *fixed, ranges);
+    // The bound over the run's length, and its hypothesis checked step by step.
+    r.bound = predicted_error_bound(p, *fixed, ranges, r.samples);
+    r.full = check_bound(p, *fixed, u, r.samples, &got);
+    for (double e : r.full.max_error) r.max_abs_error_vs_exact = std::max(r.max_abs_error_vs_exact, e);
+    r.clamp_free = r.full;
+    if (!r.full.hypothesis_held()) {
+      r.clamp_free = BoundCheck{};
+      const double s = clamp_free_scale(p, *fixed, u, ranges);
+      if (s > 0.0) {
+        const auto us = scaled_inputs(u, ranges, s);
+        const fs::path in2 = fs::path(work_dir) / "inputs_clamp_free.bin";
+        {
+          std::ofstream f(in2, std::ios::binary);
+          for (const auto& row : us)
+            f.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size() * sizeof(double)));
+        }
+        const std::vector<double> got2 =
+            run(in2, fs::path(work_dir) / "outputs_clamp_free.bin", fs::path(work_dir) / "timing_clamp_free.txt", us.size());
+        r.clamp_free = check_bound(p, *fixed, us, r.samples, &got2);
+        r.clamp_free.scale = s;
+        bit_error = r.clamp_free.max_vs_interpreter;
+      }
+    }
   } else {
     want = scalar == Scalar::Double ? interpret<double>(p, u) : interpret<float>(p, u);
   }
@@ -145,6 +235,7 @@ VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& head
     se += e * e;
     sy += ref[k] * ref[k];
   }
+  r.max_abs_error = std::max(r.max_abs_error, bit_error);
   r.sqnr_db = se == 0.0 ? INFINITY : 10.0 * std::log10(sy / se);
   return r;
 }

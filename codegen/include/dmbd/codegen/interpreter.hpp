@@ -16,7 +16,10 @@ class Interpreter {
     for (const auto* ops : {&p.output_ops, &p.update_ops})
       for (const Op& o : *ops) coeff_.push_back({static_cast<T>(o.c), static_cast<T>(o.lo), static_cast<T>(o.hi)});
   }
-  void reset() { std::fill(s_.begin(), s_.end(), T(0)); }
+  void reset() {
+    std::fill(s_.begin(), s_.end(), T(0));
+    clamp_events_ = 0;
+  }
   // u: one value per program input; y: one per output.
   void step(const T* u, T* y) {
     for (size_t k = 0; k < p_.inputs.size(); ++k) s_[static_cast<size_t>(p_.inputs[k])] = u[k];
@@ -26,6 +29,10 @@ class Interpreter {
     run(p_.update_ops, c);
   }
   const std::vector<T>& slots() const { return s_; }
+  // Saturation blocks that engaged (input outside [lo, hi]) since construction or
+  // reset(), counted per operation: the hypothesis of the fixed-point error bound
+  // (docs/codegen.md) is that this stays 0.
+  unsigned long long clamp_events() const { return clamp_events_; }
   // Direct access to the slots, for probing the program (states between steps).
   std::vector<T>& mutable_slots() { return s_; }
 
@@ -49,7 +56,16 @@ class Interpreter {
           dst = a;
           break;
         case OpKind::Clamp:
-          dst = a < k.lo ? k.lo : (a > k.hi ? k.hi : a);
+          // The same result as a < lo ? lo : (a > hi ? hi : a), as emitted.
+          if (a < k.lo) {
+            dst = k.lo;
+            ++clamp_events_;
+          } else if (a > k.hi) {
+            dst = k.hi;
+            ++clamp_events_;
+          } else {
+            dst = a;
+          }
           break;
       }
     }
@@ -57,6 +73,7 @@ class Interpreter {
   const LoopProgram& p_;
   std::vector<T> s_;
   std::vector<Coeff> coeff_;
+  unsigned long long clamp_events_ = 0;
 };
 
 }  // namespace dmbd::codegen

@@ -6,10 +6,50 @@
 #include <vector>
 
 #include "dmbd/codegen/emit.hpp"
+#include "dmbd/codegen/fixed.hpp"
 
 namespace dmbd::codegen {
 
-struct FixedProgram;
+// The verification input's length: an exponential chirp, then a step. Also the horizon
+// of the fixed-point error bound that `dmbd codegen` reports.
+constexpr int kVerifyChirpSamples = 4000, kVerifyStepSamples = 2000;
+constexpr int kVerifySamples = kVerifyChirpSamples + kVerifyStepSamples;
+
+// One run of the fixed program against the exact (double) program from reset, with the
+// hypothesis of the error bound (fixed.hpp, predicted_error_bound) checked at every step:
+// no saturation block engaged in either program, no word saturated in the fixed one.
+struct BoundCheck {
+  double scale = 0.0;              // the input: the verification input scaled by this (0: not run)
+  int steps = 0;
+  long clamp_steps_exact = 0;      // steps on which a saturation block engaged, exact program
+  long clamp_steps_fixed = 0;      // the same, fixed program
+  long saturation_steps = 0;       // steps on which the fixed program saturated a word
+  long violation_steps = 0;        // steps on which any of the three happened
+  int first_violation = -1;        // first step that broke the hypothesis; -1: it held throughout
+  int covered_steps = 0;           // leading steps the bound covers: before first_violation, within the horizon
+  std::vector<double> max_error;          // per output: max |fixed - exact| over the run
+  std::vector<double> max_error_covered;  // per output: the same over the covered steps
+  double max_vs_interpreter = 0.0;  // with the generated code's outputs: max |generated - fixed interpreter|
+  bool hypothesis_held() const { return steps > 0 && first_violation < 0; }
+  // Every output's error over the covered steps within its bound over the horizon.
+  bool within(const ErrorBound& b) const;
+};
+
+// Runs the exact program and the fixed interpreter on `u`. `fixed_outputs` (one row of
+// outputs per step): the generated code's outputs on the same input, compared with the
+// exact program instead of the interpreter's (and with the interpreter's, bit for bit).
+BoundCheck check_bound(const LoopProgram& p, const FixedProgram& f, const std::vector<std::vector<double>>& u,
+                       int horizon, const std::vector<double>* fixed_outputs = nullptr);
+
+// `u` scaled by `s` towards, per input, the point of its range nearest 0 (0 when the range
+// contains it): c + s (u - c), still within the range for 0 <= s <= 1.
+std::vector<std::vector<double>> scaled_inputs(const std::vector<std::vector<double>>& u,
+                                               const std::vector<std::pair<double, double>>& ranges, double s);
+
+// The largest s = 2^-k, k = 0 .. 40, for which the hypothesis of the bound holds on
+// scaled_inputs(u, ranges, s) (exact and fixed interpreters); 0 when there is none.
+double clamp_free_scale(const LoopProgram& p, const FixedProgram& f, const std::vector<std::vector<double>>& u,
+                        const std::vector<std::pair<double, double>>& ranges);
 
 struct VerifyResult {
   double max_abs_error = 0.0;      // generated vs interpreter, over all outputs and samples
@@ -20,22 +60,28 @@ struct VerifyResult {
   int samples = 0;
   std::string compiler_command;
   // Fixed point: the generated code against the exact (double) program, and the bound
-  // predicted for that difference.
-  double max_abs_error_vs_exact = 0.0;
-  std::vector<double> predicted_bound;
+  // predicted for that difference over the verification run's length (the horizon).
+  double max_abs_error_vs_exact = 0.0;  // over all outputs and samples of the full run
+  ErrorBound bound;
+  BoundCheck full;        // the verification input (scale 1)
+  BoundCheck clamp_free;  // where the hypothesis failed on it: the generated code on the
+                          // largest 2^-k scaled copy on which it holds (scale 0: none);
+                          // otherwise the same as `full`
 };
 
 // The verification input: for each input an exponential chirp from 0.1 Hz to 0.4 x the
 // rate over `chirp_samples`, then a step, within its range [lo, hi].
 std::vector<std::vector<double>> verification_inputs(const LoopProgram& p,
                                                      const std::vector<std::pair<double, double>>& ranges,
-                                                     int chirp_samples = 4000, int step_samples = 2000);
+                                                     int chirp_samples = kVerifyChirpSamples,
+                                                     int step_samples = kVerifyStepSamples);
 
 // `header` is the path of the generated header; `work_dir` receives the harness, its
 // binary and the data files. InputError when the compiler fails (its first error line
 // in the message).
 // With `fixed`, the header is the fixed-point one: compared bit for bit with the fixed
-// interpreter, and against the double program within the predicted bound.
+// interpreter, and against the double program with the predicted bound, its hypothesis
+// checked (on the full input, then if need be on a scaled copy: `clamp_free`).
 VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& header, const std::string& work_dir,
                     const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed = nullptr);
 
