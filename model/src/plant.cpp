@@ -223,7 +223,12 @@ struct Plant::Impl {
           SimTK::SmoothSphereHalfSpaceForce f(forces);
           const ContactParams& cp = o.contact_params;
           f.setParameters(cp.stiffness_Pa, cp.dissipation_s_per_m, cp.static_friction, cp.dynamic_friction,
-                          cp.viscous_friction, cp.transition_velocity_m_s, 1e-5, 300, 50);
+                          cp.viscous_friction, cp.transition_velocity_m_s,
+                          // cf enters the Hertz law as (x^2 + cf)^(3/4) (m^2): Simbody's default
+                          // 1e-5 is a 3.2 mm offset, larger than the static sinkage, and made the
+                          // feet push without touching and 4x too soft (DRACO toppled). bd = 1e4
+                          // makes the tanh switch-on 0.1 mm wide.
+                          1e-9, 1e4, 50);
           f.setContactSphereBody(matter.getMobilizedBody(tree.link_body[l]));
           const SimTK::Vec3 c = to_simtk(Eigen::Vector3d(sh.X_LG.translation()));
           f.setContactSphereLocationInBody(c);
