@@ -282,6 +282,21 @@ struct Plant::Impl {
       }
     }
   }
+  // Sets every joint's position (or velocity), keeping the springs' deflections.
+  void set_joints(const Eigen::VectorXd& x, bool velocity, const char* what) {
+    const int n = static_cast<int>(tree.coord_body.size());
+    if (x.size() != n)
+      throw ModelError(std::string(what) + ": " + std::to_string(x.size()) + " values for " + std::to_string(n) + " joints");
+    SimTK::State s = edit();
+    std::vector<double> d, dd;
+    deflections(s, d, dd);
+    for (int c = 0; c < n; ++c) {
+      if (velocity) coord_body(c).setOneU(s, 0, x[c]);
+      else coord_body(c).setOneQ(s, 0, x[c]);
+    }
+    make_rotors_consistent(s, d, dd);
+    commit(s);
+  }
   void deflections(const SimTK::State& s, std::vector<double>& d, std::vector<double>& dd) const {
     d.assign(acts.size(), 0.0);
     dd.assign(acts.size(), 0.0);
@@ -299,8 +314,11 @@ struct Plant::Impl {
       }
     }
   }
-  void write_inputs(SimTK::State& s) const {
-    SimTK::Vector f(s.getNU(), 0.0);
+  SimTK::Vector input_forces;  // reused: inputs change every control step
+  void write_inputs(SimTK::State& s) {
+    SimTK::Vector& f = input_forces;
+    if (f.size() != s.getNU()) f.resize(s.getNU());
+    f = 0.0;
     for (std::size_t c = 0; c < tree.coord_body.size(); ++c)
       matter.getMobilizedBody(tree.coord_body[c]).applyOneMobilityForce(s, 0, torques[static_cast<int>(c)], f);
     for (std::size_t k = 0; k < acts.size(); ++k)
@@ -363,27 +381,8 @@ void Plant::reset() {
   m.commit(s);
 }
 
-void Plant::set_joint_positions(const Eigen::VectorXd& q) {
-  Impl& m = *impl_;
-  if (q.size() != num_joints()) throw ModelError("set_joint_positions: " + std::to_string(q.size()) + " values for " + std::to_string(num_joints()) + " joints");
-  SimTK::State s = m.edit();
-  std::vector<double> d, dd;
-  m.deflections(s, d, dd);
-  for (int c = 0; c < num_joints(); ++c) m.coord_body(c).setOneQ(s, 0, q[c]);
-  m.make_rotors_consistent(s, d, dd);
-  m.commit(s);
-}
-
-void Plant::set_joint_velocities(const Eigen::VectorXd& v) {
-  Impl& m = *impl_;
-  if (v.size() != num_joints()) throw ModelError("set_joint_velocities: " + std::to_string(v.size()) + " values for " + std::to_string(num_joints()) + " joints");
-  SimTK::State s = m.edit();
-  std::vector<double> d, dd;
-  m.deflections(s, d, dd);
-  for (int c = 0; c < num_joints(); ++c) m.coord_body(c).setOneU(s, 0, v[c]);
-  m.make_rotors_consistent(s, d, dd);
-  m.commit(s);
-}
+void Plant::set_joint_positions(const Eigen::VectorXd& q) { impl_->set_joints(q, false, "set_joint_positions"); }
+void Plant::set_joint_velocities(const Eigen::VectorXd& v) { impl_->set_joints(v, true, "set_joint_velocities"); }
 
 void Plant::set_base_pose(const Eigen::Isometry3d& X_WB) {
   Impl& m = *impl_;

@@ -1,6 +1,8 @@
 // The `dmbd` command line: help, version, analysis output, and every bad-input case
 // of issue 2 (one line on stderr naming the problem and where, exit code 2, no output
 // file written, never a crash).
+#include "cli_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,29 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-std::string quote(const std::string& a) {
-  std::string q = "'";
-  for (char c : a) {
-    if (c == '\'') {
-      q += "'\\''";
-    } else {
-      q += c;
-    }
-  }
-  return q + "'";
-}
+using dmbd::cli_testing::quote;
+using dmbd::cli_testing::Result;
+using dmbd::cli_testing::slurp;
 
 class Cli : public ::testing::Test {
  protected:
@@ -53,19 +35,7 @@ class Cli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  Result run(const std::vector<std::string>& args) {
-    std::string cmd = quote(DMBD_EXE);
-    for (const auto& a : args) cmd += " " + quote(a);
-    cmd += " >" + quote((dir_ / "stdout").string()) + " 2>" + quote((dir_ / "stderr").string()) + " </dev/null";
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir_ / "stdout");
-    r.err = slurp(dir_ / "stderr");
-    fs::remove(dir_ / "stdout");
-    fs::remove(dir_ / "stderr");
-    return r;
-  }
+  Result run(const std::vector<std::string>& args) { return dmbd::cli_testing::run_dmbd(args, dir_); }
 
   // A bad-input case: exit 2, exactly one line on stderr containing every fragment,
   // nothing on stdout, and no file left in the output folder.

@@ -2,6 +2,8 @@
 // the files' own text), package paths, --strict, DRACO's description by default, and
 // bad input: exit code 2, one line on stderr naming the file and line, nothing on
 // stdout, no file written.
+#include "cli_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -32,13 +34,6 @@ std::string draco_urdf() {
       .string();
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 int line_of(const std::string& text, const std::string& needle) {
   const auto at = text.find(needle);
   if (at == std::string::npos) return 0;
@@ -53,16 +48,9 @@ double sum_of_mass_elements(const std::string& text) {
   return sum;
 }
 
-std::string quote(const std::string& a) {
-  std::string q = "'";
-  for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using dmbd::cli_testing::quote;
+using dmbd::cli_testing::Result;
+using dmbd::cli_testing::slurp;
 
 class ModelCli : public ::testing::Test {
  protected:
@@ -76,19 +64,7 @@ class ModelCli : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   // Runs dmbd in an empty working folder (dir_/work), so that any file it wrote would show.
-  Result run(const std::vector<std::string>& args) {
-    std::string cmd = "cd " + quote((dir_ / "work").string()) + " && " + quote(DMBD_EXE);
-    for (const auto& a : args) cmd += " " + quote(a);
-    cmd += " >" + quote((dir_ / "stdout").string()) + " 2>" + quote((dir_ / "stderr").string()) + " </dev/null";
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir_ / "stdout");
-    r.err = slurp(dir_ / "stderr");
-    fs::remove(dir_ / "stdout");
-    fs::remove(dir_ / "stderr");
-    return r;
-  }
+  Result run(const std::vector<std::string>& args) { return dmbd::cli_testing::run_dmbd(args, dir_, dir_ / "work"); }
 
   nlohmann::json info_json(const std::vector<std::string>& args) {
     std::vector<std::string> full = {"model", "info"};
