@@ -14,6 +14,7 @@
 
 #include "analyze.hpp"
 #include "model_cmd.hpp"
+#include "simulate_cmd.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/frequency.hpp"
@@ -720,6 +721,7 @@ int main(int argc, char** argv) {
   codegen->add_flag("--verify", cg.verify, "Compile the header and compare it with the interpreter on a chirp and a step");
 
   dmbd::apps::ModelCommand model_cmd(app);  // dmbd model info
+  dmbd::apps::SimulateCommand simulate_cmd(app);  // dmbd simulate
 
   try {
     app.parse(argc, argv);
@@ -740,6 +742,7 @@ int main(int argc, char** argv) {
     an.tf_given = analyze->get_option("--tf")->count() > 0;
     if (*analyze) return run_analyze(an);
     if (model_cmd.selected()) return model_cmd.run();
+    if (simulate_cmd.selected()) return simulate_cmd.run();
     if (*tune) {
       const b::ParameterMap params = parse_params(tn.params);
       const double overshoot = parse_number(tn.overshoot, "--max-overshoot");

@@ -48,7 +48,7 @@ void run(benchmark::State& st, Plant& p, double sim_s, Control control) {
     }
     wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     sim += sim_s;
-    steps += p.integrator_steps();  // the integrator restarts its count after reset()
+    steps += p.integrator_steps();  // counted from reset()
   }
   st.counters["rtf"] = sim / wall;
   st.counters["steps_per_sim_s"] = static_cast<double>(steps) / sim;

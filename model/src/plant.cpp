@@ -135,6 +135,7 @@ struct Plant::Impl {
   std::unique_ptr<SimTK::RungeKuttaMersonIntegrator> integ;
   bool ready = false;               // integ holds the current state
   bool inputs_dirty = false;
+  long long steps_total = 0;  // integrator steps over every stepTo (its own count restarts on reinitialize)
   Eigen::VectorXd currents, torques;
   double robot_mass = 0;
 
@@ -351,6 +352,7 @@ const ActuatorParams& Plant::actuator(int k) const { return impl_->acts.at(stati
 
 void Plant::reset() {
   Impl& m = *impl_;
+  m.steps_total = 0;
   SimTK::State s = m.system.getDefaultState();
   m.system.realize(s, SimTK::Stage::Instance);
   if (m.tree.base_dofs) {
@@ -459,7 +461,9 @@ void Plant::advance_to(double t) {
   if (t <= m.integ->getTime()) return;
   try {
     while (m.integ->getTime() < t) {
+      const long long before = m.integ->getNumStepsTaken();
       const auto status = m.integ->stepTo(t);
+      m.steps_total += m.integ->getNumStepsTaken() - before;
       if (status == SimTK::Integrator::EndOfSimulation || m.integ->isSimulationOver())
         throw ModelError("simulation diverged at t = " + std::to_string(m.integ->getTime()) + " s: " +
                          SimTK::Integrator::getTerminationReasonString(m.integ->getTerminationReason()));
@@ -589,6 +593,6 @@ Eigen::Vector3d Plant::imu_specific_force_B() const {
   const SimTK::Vec3 a = b.getBodyOriginAcceleration(m.cur()) + SimTK::Vec3(0, 0, m.opt.gravity_m_s2);
   return to_eigen(~b.getBodyRotation(m.cur()) * a);
 }
-long long Plant::integrator_steps() const { return impl_->integ->getNumStepsTaken(); }
+long long Plant::integrator_steps() const { return impl_->steps_total; }
 
 }  // namespace dmbd::model

@@ -119,7 +119,7 @@ class Plant {
   double potential_energy() const;                         // gravity + springs + contact
   Eigen::Vector3d imu_angular_velocity_B() const;          // torso, in torso frame
   Eigen::Vector3d imu_specific_force_B() const;            // torso origin, in torso frame
-  long long integrator_steps() const;
+  long long integrator_steps() const;                      // since the last reset()
 
  private:
   struct Impl;

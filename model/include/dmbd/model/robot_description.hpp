@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dmbd::model {
@@ -104,6 +105,16 @@ RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
 
 // Default-pose forward kinematics (every joint at 0, root at identity): X_WL per link.
 std::vector<Eigen::Isometry3d> default_pose_link_frames(const RobotDescription& robot);
+
+// The same robot with some 1-dof joints welded at given positions (rad or m): each
+// becomes a Fixed joint whose origin includes the rotation (translation) by q about
+// (along) its axis, so the welded links sit where the moving joint would put them.
+// A test bench clamps the joints it does not study this way; the plant then has no
+// coordinates (and no constraint equations) for them. Throws ModelError naming a joint
+// that does not exist or has no single degree of freedom, or a position outside the
+// joint's limits.
+RobotDescription freeze_joints(const RobotDescription& robot,
+                               const std::vector<std::pair<std::string, double>>& positions);
 
 // Summary used by `dmbd model info`.
 struct ModelSummary {

@@ -1,0 +1,74 @@
+#include "simulate_cmd.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "dmbd/blocks/error.hpp"
+#include "dmbd/diagrams/diagram.hpp"
+#include "dmbd/model/error.hpp"
+#include "dmbd/sim/outputs.hpp"
+
+namespace dmbd::apps {
+
+SimulateCommand::SimulateCommand(CLI::App& app) {
+  cmd_ = app.add_subcommand("simulate", "Run a scenario against the Simbody model of DRACO and write a log, metrics, plots, frames, "
+                                        "a video and an HTML report");
+  cmd_->add_option("scenario", scenario_, "A scenario file (YAML, docs/scenario-format.md)")->required();
+  cmd_->add_option("--out", out_, "Output folder (created if missing)")->required();
+  cmd_->add_flag("--no-frames", no_frames_, "Do not render frames or the video");
+  cmd_->add_option("--duration", duration_, "Simulated time of every variant (s), instead of the scenario's")->check(CLI::PositiveNumber);
+}
+
+bool SimulateCommand::selected() const { return cmd_->parsed(); }
+
+int SimulateCommand::run() const {
+  // A progress bar on a terminal, once the run has taken more than a second.
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  const auto start = std::chrono::steady_clock::now();
+  bool drawn = false;
+  auto progress = [&](double f, const std::string& variant) {
+    if (!tty) return;
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (el < 1.0 && f < 1.0) return;
+    const int width = 30, n = static_cast<int>(std::clamp(f, 0.0, 1.0) * width);
+    std::fprintf(stderr, "\r[%s%s] %3d%%  %-24.24s %6.1f s", std::string(static_cast<std::size_t>(n), '#').c_str(),
+                 std::string(static_cast<std::size_t>(width - n), '.').c_str(), static_cast<int>(f * 100), variant.c_str(), el);
+    drawn = true;
+  };
+  try {
+    const sim::Scenario s = sim::load_scenario(scenario_);
+    sim::ScenarioRunOptions o;
+    o.frames = !no_frames_;
+    if (duration_ > 0) o.duration_s = duration_;
+    o.on_progress = progress;
+    const sim::ScenarioRunResult r = sim::run_scenario(s, out_, o);
+    if (drawn) std::fprintf(stderr, "\n");
+    for (const auto& run : r.runs)
+      std::cout << fmt::format("{}: {:.3g} s simulated in {:.3g} s (real-time factor {:.3g})\n", run.name,
+                               run.log.time().empty() ? 0.0 : run.log.time().back(), run.wall_s, run.real_time_factor);
+    for (const auto& f : r.files) std::cout << "wrote " << out_ << "/" << f << "\n";
+    return 0;
+  } catch (const diagrams::DiagramError& e) {
+    if (drawn) std::fprintf(stderr, "\n");
+    for (const auto& d : e.diagnostics()) std::cerr << d.str() << "\n";
+    return 2;
+  } catch (const InputError& e) {
+    if (drawn) std::fprintf(stderr, "\n");
+    std::string msg = e.what();
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    std::cerr << "dmbd: error: " << msg << "\n";
+    return 2;
+  } catch (const model::ModelError& e) {
+    if (drawn) std::fprintf(stderr, "\n");
+    std::cerr << "dmbd: error: " << e.what() << "\n";
+    return 2;
+  }
+}
+
+}  // namespace dmbd::apps

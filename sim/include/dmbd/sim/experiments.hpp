@@ -1,0 +1,41 @@
+#pragma once
+// The paper's experiments as analyses of a scenario's variant logs: each turns the logs
+// into the metrics of metrics.json and the figures of plots/ (docs/scenario-format.md,
+// "experiment"). Types:
+//   step_response   overshoot, rise time, steady-state error of a step window and RMS
+//                   tracking error of a sinusoid window, per variant (paper Fig. 5b,c)
+//   force_tracking  RMS force error per variant, nested by the matrix axes
+//   thermal         peak winding temperature with cooling on and off
+//   sysid_rfsea     RFSEA parameters identified from current chirps, locked and free
+//                   output (paper Fig. 5a), against the simulator's values
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "dmbd/sim/scenario.hpp"
+#include "dmbd/viz/plot.hpp"
+
+namespace dmbd::sim {
+
+struct ExperimentResult {
+  nlohmann::json metrics = nlohmann::json::object();
+  std::vector<std::pair<std::string, viz::Figure>> figures;  // file name in plots/ -> figure
+  std::vector<std::string> notes;                            // one line each, for the report
+};
+
+// Step metrics of y following a step of r at t_step (window [t_step, t_end]).
+struct StepMetrics {
+  double overshoot_pct = 0, rise_time_s = 0, steady_state_error = 0;
+};
+StepMetrics step_metrics(const std::vector<double>& t, const std::vector<double>& r, const std::vector<double>& y, double t_step,
+                         double t_end);
+// RMS of y - r over samples with t in [t0, t1].
+double rms_error(const std::vector<double>& t, const std::vector<double>& r, const std::vector<double>& y, double t0, double t1);
+
+// The scenario's experiment (if any) and its `plots:`. Throws InputError naming a
+// signal that is not in the log.
+ExperimentResult evaluate_experiment(const Scenario& s, const std::vector<VariantResult>& runs);
+
+}  // namespace dmbd::sim

@@ -1,0 +1,139 @@
+#pragma once
+// Scenarios: what `dmbd simulate` runs (docs/scenario-format.md). A scenario file names
+// the robot and how it is mounted, which joints its actuators drive and which are
+// welded or locked, the controllers (diagram files lowered to loop programs) and how
+// their ports bind to bus signals, references, disturbances, duration and outputs, and
+// optionally `variants` or a `matrix` of variants (each overriding fields of the base)
+// and an `experiment` that turns the variants' logs into metrics and figures.
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "dmbd/model/dynamics.hpp"
+#include "dmbd/sim/simulation.hpp"
+
+namespace dmbd::sim {
+
+// A rigid mass bolted to a link: mass at com_L (link frame), principal moments about
+// axes parallel to the link frame's.
+struct Payload {
+  std::string link;
+  double mass_kg = 0;
+  Eigen::Vector3d com_L = Eigen::Vector3d::Zero();
+  Eigen::Vector3d inertia_kgm2 = Eigen::Vector3d::Zero();
+};
+
+// An inertia disc on a joint's axis, sized so that the load the joint's actuator sees,
+// reflected through the linkage at the joint's initial angle, is reflected_mass_kg:
+// (I_subtree + I_disc) N_l(q0)^2 = M_l. Its centre is on the axis: no gravity torque.
+struct ReflectedLoad {
+  std::string joint;
+  double reflected_mass_kg = 0;
+};
+
+struct RobotSetup {
+  std::string urdf = "draco";                  // "draco" or a path (relative to the scenario)
+  model::BaseMode base = model::BaseMode::Fixed;
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  bool all_actuators = false;
+  std::vector<std::string> actuators;          // joints driven through their VLCA
+  bool freeze_all_others = false;              // weld every 1-dof joint not in `moving`
+  std::vector<std::string> moving;
+  std::vector<std::pair<std::string, double>> freeze;   // welded at these angles (others at 0 clamped into limits)
+  std::vector<std::pair<std::string, double>> initial;  // joint angles at t = 0
+  std::vector<std::pair<std::string, double>> lock;     // locked outputs
+  std::vector<Payload> payloads;
+  std::vector<ReflectedLoad> loads;
+  bool contact = false;
+  double gravity_m_s2 = 9.81;
+};
+
+struct ControllerSetup {
+  std::string name;
+  std::string diagram;                         // resolved path
+  std::vector<std::pair<std::string, double>> parameters;
+  double rate_hz = 1000;
+  double delay_s = 0;
+  Scalar scalar = Scalar::Double;
+  int word_bits = 32;
+  std::vector<std::pair<std::string, std::string>> inputs;   // program input -> bus signal
+  std::vector<std::pair<std::string, std::string>> outputs;  // program output -> bus signal
+};
+
+struct FrameSetup {
+  bool enabled = true;
+  double fps = 30;
+  int width_px = 1280, height_px = 720;
+  int max_frames = 240;                        // longer runs render at a lower rate (time-lapse)
+  std::optional<Eigen::Vector3d> camera_position, camera_look_at;
+  std::string variant;                         // which variant is rendered (default: the first)
+  std::string phase_signal;                    // optional overlay text source
+};
+
+struct PlotSetup {
+  std::string title, y_label, file;
+  std::vector<std::string> signals;            // "signal" or "variant:signal"
+};
+
+struct VariantSetup {
+  std::string name;                            // "base" without variants
+  std::vector<std::pair<std::string, std::string>> axes;  // matrix axis -> value name
+  RobotSetup robot;
+  std::vector<ControllerSetup> controllers;
+  std::vector<ReferenceSpec> references;
+  std::vector<ForceSpec> forces;
+  double duration_s = 1;
+  double log_rate_hz = 1000;
+  bool sensor_noise = false;
+  uint64_t seed = 1;
+  double force_noise_N = 0;
+  Cooling cooling = Cooling::On;
+};
+
+struct ExperimentSetup {
+  std::string type;                            // "", sysid_rfsea, force_tracking, step_response, thermal
+  std::string joint = "l_knee";
+  std::map<std::string, std::string> text;     // further string fields (signal names ...)
+  std::map<std::string, double> number;        // further numeric fields (windows ...)
+};
+
+struct Scenario {
+  std::string name, description, file;
+  std::vector<VariantSetup> variants;
+  FrameSetup frames;
+  std::vector<PlotSetup> plots;
+  ExperimentSetup experiment;
+};
+
+// Reads and checks a scenario. Throws InputError "FILE:LINE:COL: what was expected".
+Scenario load_scenario(const std::string& path);
+
+// One run of one variant.
+struct VariantResult {
+  std::string name;
+  std::vector<std::pair<std::string, std::string>> axes;
+  Log log;
+  double wall_s = 0;                           // wall-clock time of the run
+  double real_time_factor = 0;                 // simulated / wall time
+  long long integrator_steps = 0;
+  std::vector<long long> controller_steps;
+  std::vector<unsigned long long> clamp_events;
+  std::map<std::string, double> truth;         // the simulator's true values the experiment may need
+};
+
+struct RunOptions {
+  std::optional<double> duration_s;            // overrides every variant's duration
+  std::function<void(double)> on_progress;
+};
+
+// Builds the plant and the controllers of a variant and runs it. `on_frame(t, plant)`
+// is called at frame_rate_hz (0: never).
+VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options,
+                          double frame_rate_hz = 0,
+                          const std::function<void(double, const model::Plant&)>& on_frame = {});
+
+}  // namespace dmbd::sim

@@ -1,0 +1,119 @@
+#pragma once
+// Multi-rate co-simulation: the continuous Simbody plant (dmbd::model::Plant, integrated
+// with error control between events) and discrete controllers (loop programs run by
+// the codegen interpreters: the arithmetic of the generated code, in double, float or
+// fixed point) at their own rates, joined by a bus of named scalar signals.
+//
+// At every controller tick t_k = k / rate the controller samples its inputs from the bus
+// (sensors are read from the plant at that instant, references evaluated at t_k), runs
+// one step, and publishes its outputs at t_k + delay_s (its computation delay); a
+// published output holds (zero-order hold) until the next. Signals named
+// "<joint>.current" (A) and "<joint>.torque" (N m) drive the plant. Events fall on an
+// integer nanosecond grid, so runs are exactly repeatable.
+//
+// Bus signals (per joint J of the plant; the sensor ones are sampled at controller
+// ticks and logged):
+//   J.q, J.qd                true joint angle (rad) and rate (rad/s)
+//   J.current, J.torque      commands (A for an actuated joint; N m for any joint)
+//   and for a joint with an actuator:
+//   J.q_enc                  joint angle from the motor and elastomer encoders through
+//                            the linkage (the firmware's lookup): x(q) = x(0) + theta/N_m - x_s
+//   J.q_pot                  joint angle from the potentiometer (noise, ADC, 1st-order filter)
+//   J.force                  sensed actuator force K_s x_s (elastomer encoder), N
+//   J.motor_angle, J.spring_deflection   encoder readings (rad, m)
+// plus every reference (its name) and every controller output (its bus name).
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dmbd/codegen/fixed.hpp"
+#include "dmbd/codegen/loop_program.hpp"
+#include "dmbd/model/plant.hpp"
+#include "dmbd/model/thermal.hpp"
+#include "dmbd/sim/log.hpp"
+#include "dmbd/sim/signals.hpp"
+
+namespace dmbd::sim {
+
+enum class Scalar { Double, Float, Fixed };
+
+struct ControllerSpec {
+  std::string name;
+  std::shared_ptr<const codegen::LoopProgram> program;  // lowered at rate_hz
+  Scalar scalar = Scalar::Double;
+  std::shared_ptr<const codegen::FixedProgram> fixed;   // when scalar == Fixed
+  double rate_hz = 1000;
+  double delay_s = 0;                 // computation delay: output applied this long after sampling
+  std::vector<std::string> inputs;    // bus signal per program input
+  std::vector<std::string> outputs;   // bus signal per program output
+};
+
+struct ReferenceSpec {
+  std::string name;  // bus signal
+  Source source;
+};
+
+// A force on a link: f_W = direction * source(t) at point p_L of the link.
+struct ForceSpec {
+  std::string link;
+  Eigen::Vector3d point_L = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction_W = Eigen::Vector3d::UnitX();
+  Source source;
+};
+
+enum class Cooling { On, Off, Both };
+
+struct SimulationSpec {
+  std::vector<ControllerSpec> controllers;
+  std::vector<ReferenceSpec> references;
+  std::vector<ForceSpec> forces;
+  double duration_s = 1;
+  double log_rate_hz = 1000;
+  double frame_rate_hz = 0;           // 0: no frame callbacks
+  bool sensor_noise = false;          // off: exact readings (no quantisation, no noise)
+  uint64_t seed = 1;
+  double force_noise_N = 0;           // white noise added to J.force when sensor_noise
+  Cooling cooling = Cooling::On;      // thermal models run per actuator; Both logs two
+  // Runaway detection: a joint beyond this angle from its limits' span or faster than
+  // this rate means the run diverged.
+  double max_joint_rate_rad_s = 200;
+};
+
+// Thrown when the run diverges (NaN, integrator failure, runaway); the message names
+// the time and the state ("simulation diverged at t = 0.731 s: ... (l_knee q = ...)").
+class DivergenceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Simulation {
+ public:
+  // The plant must outlive the simulation. Throws InputError (dmbd/blocks/error.hpp)
+  // naming a bus signal that nothing provides, a program input/output count mismatch,
+  // a rate that is not a whole number of nanoseconds, or an unknown link.
+  Simulation(model::Plant& plant, SimulationSpec spec);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // Runs from the plant's current state for spec.duration_s. `on_frame` is called at
+  // every frame time (t = 0 included) with the plant in its state at that time;
+  // `on_progress` with the fraction done, about every 1 % of the run.
+  Log run(const std::function<void(double)>& on_frame = {}, const std::function<void(double)>& on_progress = {});
+
+  // Bus signal names (the log's columns follow them).
+  std::vector<std::string> signal_names() const;
+  // Controller steps taken and saturations engaged, per controller.
+  std::vector<long long> controller_steps() const;
+  std::vector<unsigned long long> controller_clamp_events() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dmbd::sim

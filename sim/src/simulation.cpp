@@ -1,0 +1,430 @@
+#include "dmbd/sim/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <random>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "dmbd/blocks/error.hpp"
+#include "dmbd/codegen/interpreter.hpp"
+#include "dmbd/model/error.hpp"
+#include "dmbd/model/sensors.hpp"
+
+namespace dmbd::sim {
+
+namespace {
+
+using Ns = int64_t;
+constexpr Ns kNever = std::numeric_limits<Ns>::max();
+
+Ns period_ns(double rate_hz, const std::string& what) {
+  if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw InputError(what + ": rate " + fmt::format("{}", rate_hz) + " Hz is not positive");
+  const double p = 1e9 / rate_hz;
+  const Ns r = static_cast<Ns>(std::llround(p));
+  if (r <= 0 || std::abs(p - static_cast<double>(r)) > 1e-6 * p)
+    throw InputError(what + ": a rate of " + fmt::format("{}", rate_hz) + " Hz is not a whole number of nanoseconds per period");
+  return r;
+}
+
+// Joint angle q whose linkage length change x(q) - x(0) equals dx, by Newton's method
+// from a guess (the previous reading): the firmware's lookup from actuator travel to
+// joint angle, done exactly.
+double invert_linkage(const model::LinkageGeometry& g, double dx, double guess) {
+  const double target = g.length_m(0) + dx;
+  double q = guess;
+  for (int it = 0; it < 30; ++it) {
+    const double r = g.moment_arm_m(q);
+    const double step = (g.length_m(q) - target) / r;
+    q -= step;
+    if (std::abs(step) < 1e-13) break;
+  }
+  return q;
+}
+
+}  // namespace
+
+struct Simulation::Impl {
+  model::Plant& plant;
+  SimulationSpec spec;
+
+  // Bus.
+  std::vector<std::string> names, units;
+  std::vector<double> bus;
+  std::map<std::string, int> index;
+  int add(const std::string& name, const std::string& unit) {
+    const auto [it, inserted] = index.emplace(name, static_cast<int>(names.size()));
+    if (inserted) {
+      names.push_back(name);
+      units.push_back(unit);
+      bus.push_back(0.0);
+    }
+    return it->second;
+  }
+  int find(const std::string& name) const {
+    const auto it = index.find(name);
+    return it == index.end() ? -1 : it->second;
+  }
+
+  // Per joint and per actuator signal indices.
+  int nj = 0, na = 0;
+  std::vector<int> sig_q, sig_qd, sig_torque;
+  struct ActuatorIo {
+    int joint = -1;
+    int current = -1, q_enc = -1, q_pot = -1, force = -1, motor = -1, spring = -1;
+    int force_true = -1, current_applied = -1, temp_on = -1, temp_off = -1, housing_on = -1, housing_off = -1;
+    model::Encoder motor_enc, spring_enc;
+    std::optional<model::Potentiometer> pot;
+    model::ThermalModel thermal_on, thermal_off;
+    double q_enc_last = 0;
+  };
+  std::vector<ActuatorIo> acts;
+  std::mt19937_64 rng;
+  std::normal_distribution<double> normal{0.0, 1.0};
+
+  // Controllers.
+  struct Ctrl {
+    ControllerSpec spec;
+    std::variant<codegen::Interpreter<double>, codegen::Interpreter<float>, codegen::FixedInterpreter> run;
+    std::vector<int> in, out;
+    std::vector<double> u, y;
+    std::vector<float> uf, yf;
+    Ns period = 0, delay = 0, next_tick = 0, publish_at = kNever;
+    long long steps = 0;
+  };
+  std::vector<Ctrl> ctrls;
+  std::vector<int> ref_sig;
+  std::vector<int> force_link;
+
+  Eigen::VectorXd currents, torques, q, qd;
+  Ns last_sensor_ns = -1;
+
+  Impl(model::Plant& p, SimulationSpec s) : plant(p), spec(std::move(s)), rng(spec.seed) {
+    nj = plant.num_joints();
+    na = plant.num_actuators();
+    for (int j = 0; j < nj; ++j) {
+      const std::string& J = plant.joint_names()[static_cast<std::size_t>(j)];
+      sig_q.push_back(add(J + ".q", "rad"));
+      sig_qd.push_back(add(J + ".qd", "rad/s"));
+    }
+    for (int j = 0; j < nj; ++j) sig_torque.push_back(add(plant.joint_names()[static_cast<std::size_t>(j)] + ".torque", "N m"));
+    for (int k = 0; k < na; ++k) {
+      const model::ActuatorParams& a = plant.actuator(k);
+      int joint = -1;
+      for (int j = 0; j < nj; ++j)
+        if (plant.actuator_of_joint(j) == k) joint = j;
+      const std::string& J = a.joint;
+      ActuatorIo io{joint, add(J + ".current", "A"), add(J + ".q_enc", "rad"), add(J + ".q_pot", "rad"), add(J + ".force", "N"),
+                    add(J + ".motor_angle", "rad"), add(J + ".spring_deflection", "m"), -1, -1, -1, -1, -1, -1,
+                    model::Encoder(a.motor_encoder), model::Encoder(a.spring_encoder), std::nullopt,
+                    model::ThermalModel(a.thermal), model::ThermalModel(a.thermal), 0.0};
+      if (spec.sensor_noise) io.pot.emplace(a.potentiometer, spec.seed * 1000003ULL + static_cast<uint64_t>(k));
+      acts.push_back(std::move(io));
+    }
+    // Logged-only signals after the bus ones.
+    for (auto& io : acts) {
+      const std::string& J = plant.actuator(static_cast<int>(&io - acts.data())).joint;
+      io.force_true = add(J + ".force_true", "N");
+      io.current_applied = add(J + ".current_applied", "A");
+      if (spec.cooling != Cooling::Off) {
+        io.temp_on = add(J + (spec.cooling == Cooling::Both ? ".T_winding_cooled" : ".T_winding"), "degC");
+        io.housing_on = add(J + (spec.cooling == Cooling::Both ? ".T_housing_cooled" : ".T_housing"), "degC");
+      }
+      if (spec.cooling != Cooling::On) {
+        io.temp_off = add(J + (spec.cooling == Cooling::Both ? ".T_winding_uncooled" : ".T_winding"), "degC");
+        io.housing_off = add(J + (spec.cooling == Cooling::Both ? ".T_housing_uncooled" : ".T_housing"), "degC");
+      }
+    }
+    // A reference either defines a new bus signal or drives a plant command directly
+    // (e.g. a current chirp on "l_knee.current" for system identification).
+    for (const auto& r : spec.references) {
+      const int existing = find(r.name);
+      const bool command = r.name.size() > 8 && (r.name.rfind(".current") == r.name.size() - 8 || r.name.rfind(".torque") == r.name.size() - 7);
+      if (existing >= 0 && !command) throw InputError("reference '" + r.name + "': the name is already a bus signal");
+      ref_sig.push_back(existing >= 0 ? existing : add(r.name, ""));
+    }
+    for (const auto& f : spec.forces) {
+      const int l = plant.description().link_index(f.link);
+      if (l < 0) throw InputError("force on link '" + f.link + "': the robot has no such link");
+      force_link.push_back(l);
+    }
+    // Controllers: outputs first (they define bus signals), then check inputs.
+    for (const auto& c : spec.controllers) {
+      const codegen::LoopProgram& p = *c.program;
+      if (c.outputs.size() != p.outputs.size())
+        throw InputError(fmt::format("controller '{}': {} outputs bound for {} program outputs", c.name, c.outputs.size(), p.outputs.size()));
+      if (c.inputs.size() != p.inputs.size())
+        throw InputError(fmt::format("controller '{}': {} inputs bound for {} program inputs", c.name, c.inputs.size(), p.inputs.size()));
+      for (std::size_t k = 0; k < c.outputs.size(); ++k) {
+        const std::string& unit = p.slots[static_cast<std::size_t>(p.outputs[k])].unit;
+        add(c.outputs[k].empty() ? c.name + "." + p.slots[static_cast<std::size_t>(p.outputs[k])].name : c.outputs[k], unit);
+      }
+    }
+    for (const auto& c : spec.controllers)
+      for (const auto& o : c.outputs)
+        for (const auto& r : spec.references)
+          if (o == r.name) throw InputError("controller '" + c.name + "' and a reference both drive '" + o + "'");
+    for (const auto& c : spec.controllers) {
+      const codegen::LoopProgram& p = *c.program;
+      auto make = [&]() -> decltype(Ctrl::run) {
+        switch (c.scalar) {
+          case Scalar::Float: return codegen::Interpreter<float>(p);
+          case Scalar::Fixed:
+            if (!c.fixed) throw InputError("controller '" + c.name + "': fixed point without a fixed-point program");
+            return codegen::FixedInterpreter(p, *c.fixed);
+          default: return codegen::Interpreter<double>(p);
+        }
+      };
+      Ctrl k{c, make(), {}, {}, std::vector<double>(p.inputs.size()), std::vector<double>(p.outputs.size()),
+             std::vector<float>(p.inputs.size()), std::vector<float>(p.outputs.size()),
+             period_ns(c.rate_hz, "controller '" + c.name + "'"), 0, 0, kNever, 0};
+      if (std::abs(c.rate_hz - p.rate_hz) > 1e-9 * c.rate_hz)
+        throw InputError(fmt::format("controller '{}': runs at {} Hz but its program was lowered at {} Hz", c.name, c.rate_hz, p.rate_hz));
+      k.delay = static_cast<Ns>(std::llround(c.delay_s * 1e9));
+      if (k.delay < 0 || k.delay > k.period)
+        throw InputError(fmt::format("controller '{}': delay {} s must be between 0 and one period ({} s)", c.name, c.delay_s, 1.0 / c.rate_hz));
+      for (std::size_t i = 0; i < c.inputs.size(); ++i) {
+        const int s = find(c.inputs[i]);
+        if (s < 0)
+          throw InputError("controller '" + c.name + "': input '" + p.slots[static_cast<std::size_t>(p.inputs[i])].name +
+                           "' is bound to '" + c.inputs[i] + "', which no sensor, reference or controller provides");
+        k.in.push_back(s);
+      }
+      for (std::size_t i = 0; i < c.outputs.size(); ++i)
+        k.out.push_back(find(c.outputs[i].empty() ? c.name + "." + p.slots[static_cast<std::size_t>(p.outputs[i])].name : c.outputs[i]));
+      ctrls.push_back(std::move(k));
+    }
+    currents = Eigen::VectorXd::Zero(na);
+    torques = Eigen::VectorXd::Zero(nj);
+    for (auto& io : acts) {
+      io.thermal_on.reset();
+      io.thermal_off.reset();
+    }
+  }
+
+  double t_of(Ns t) const { return static_cast<double>(t) * 1e-9; }
+
+  void refresh_true() {
+    q = plant.joint_positions();
+    qd = plant.joint_velocities();
+    for (int j = 0; j < nj; ++j) {
+      bus[static_cast<std::size_t>(sig_q[static_cast<std::size_t>(j)])] = q[j];
+      bus[static_cast<std::size_t>(sig_qd[static_cast<std::size_t>(j)])] = qd[j];
+    }
+  }
+  void refresh_references(double t) {
+    for (std::size_t r = 0; r < ref_sig.size(); ++r) bus[static_cast<std::size_t>(ref_sig[r])] = spec.references[r].source.value(t);
+  }
+  // Samples every sensor (once per controller instant; dt for the filters).
+  void refresh_sensors(Ns t) {
+    const bool first = last_sensor_ns < 0;
+    const double dt = first ? 0.0 : t_of(t - last_sensor_ns);
+    last_sensor_ns = t;
+    if (na == 0) return;
+    const Eigen::VectorXd theta = plant.motor_angles(), xs = plant.spring_deflections(), f = plant.actuator_forces();
+    for (int k = 0; k < na; ++k) {
+      ActuatorIo& io = acts[static_cast<std::size_t>(k)];
+      const model::ActuatorParams& a = plant.actuator(k);
+      const double th = spec.sensor_noise ? io.motor_enc.read(theta[k]) : theta[k];
+      const double x = spec.sensor_noise ? io.spring_enc.read(xs[k]) : xs[k];
+      bus[static_cast<std::size_t>(io.motor)] = th;
+      bus[static_cast<std::size_t>(io.spring)] = x;
+      double force = a.K_s_N_per_m * x;
+      if (spec.sensor_noise && spec.force_noise_N > 0) force += spec.force_noise_N * normal(rng);
+      bus[static_cast<std::size_t>(io.force)] = force;
+      bus[static_cast<std::size_t>(io.force_true)] = f[k];
+      const double qj = io.joint >= 0 ? q[io.joint] : 0.0;
+      if (first) io.q_enc_last = qj;  // Newton's first guess only (the firmware starts from its last reading)
+      io.q_enc_last = invert_linkage(a.linkage, th / a.N_m_rad_per_m - x, io.q_enc_last);
+      bus[static_cast<std::size_t>(io.q_enc)] = io.q_enc_last;
+      if (io.pot) {
+        if (first) io.pot->reset(qj);
+        bus[static_cast<std::size_t>(io.q_pot)] = io.pot->read(qj, first ? 1e-3 : dt);
+      } else {
+        bus[static_cast<std::size_t>(io.q_pot)] = qj;
+      }
+    }
+  }
+
+  void publish(Ctrl& c) {
+    for (std::size_t k = 0; k < c.out.size(); ++k) bus[static_cast<std::size_t>(c.out[k])] = c.y[k];
+    c.publish_at = kNever;
+  }
+  void step(Ctrl& c) {
+    for (std::size_t k = 0; k < c.in.size(); ++k) c.u[k] = bus[static_cast<std::size_t>(c.in[k])];
+    std::visit(
+        [&](auto& r) {
+          using R = std::decay_t<decltype(r)>;
+          if constexpr (std::is_same_v<R, codegen::Interpreter<double>>) {
+            r.step(c.u.data(), c.y.data());
+          } else if constexpr (std::is_same_v<R, codegen::Interpreter<float>>) {
+            for (std::size_t k = 0; k < c.u.size(); ++k) c.uf[k] = static_cast<float>(c.u[k]);
+            r.step(c.uf.data(), c.yf.data());
+            for (std::size_t k = 0; k < c.y.size(); ++k) c.y[k] = static_cast<double>(c.yf[k]);
+          } else {
+            r.step_real(c.u.data(), c.y.data());
+          }
+        },
+        c.run);
+    ++c.steps;
+  }
+  // Applies the command signals to the plant (held until the next change).
+  void apply_commands() {
+    bool changed = false;
+    for (int k = 0; k < na; ++k) {
+      const double v = bus[static_cast<std::size_t>(acts[static_cast<std::size_t>(k)].current)];
+      if (v != currents[k]) {
+        currents[k] = v;
+        changed = true;
+      }
+    }
+    if (changed) plant.set_currents(currents);
+    changed = false;
+    for (int j = 0; j < nj; ++j) {
+      const double v = bus[static_cast<std::size_t>(sig_torque[static_cast<std::size_t>(j)])];
+      if (v != torques[j]) {
+        torques[j] = v;
+        changed = true;
+      }
+    }
+    if (changed) plant.set_joint_torques(torques);
+  }
+  void apply_forces(double t) {
+    if (spec.forces.empty()) return;
+    plant.clear_external_forces();
+    for (std::size_t f = 0; f < spec.forces.size(); ++f)
+      plant.set_external_force(force_link[f], spec.forces[f].point_L, spec.forces[f].direction_W * spec.forces[f].source.value(t));
+  }
+  void advance_thermal(double dt) {
+    if (dt <= 0 || na == 0) return;
+    const Eigen::VectorXd i = plant.applied_currents();
+    for (int k = 0; k < na; ++k) {
+      acts[static_cast<std::size_t>(k)].thermal_on.step(i[k], dt, true);
+      acts[static_cast<std::size_t>(k)].thermal_off.step(i[k], dt, false);
+    }
+  }
+  void fill_logged() {
+    if (na == 0) return;
+    const Eigen::VectorXd i = plant.applied_currents(), f = plant.actuator_forces();
+    for (int k = 0; k < na; ++k) {
+      ActuatorIo& io = acts[static_cast<std::size_t>(k)];
+      bus[static_cast<std::size_t>(io.current_applied)] = i[k];
+      bus[static_cast<std::size_t>(io.force_true)] = f[k];
+      if (io.temp_on >= 0) {
+        bus[static_cast<std::size_t>(io.temp_on)] = io.thermal_on.state().T_winding_C;
+        bus[static_cast<std::size_t>(io.housing_on)] = io.thermal_on.state().T_housing_C;
+      }
+      if (io.temp_off >= 0) {
+        bus[static_cast<std::size_t>(io.temp_off)] = io.thermal_off.state().T_winding_C;
+        bus[static_cast<std::size_t>(io.housing_off)] = io.thermal_off.state().T_housing_C;
+      }
+    }
+  }
+
+  std::string state_text() const {
+    std::string s;
+    for (int j = 0; j < nj && j < static_cast<int>(q.size()); ++j)
+      s += fmt::format("{}{} q = {:.4g} rad, qd = {:.4g} rad/s", j ? "; " : "", plant.joint_names()[static_cast<std::size_t>(j)], q[j], qd[j]);
+    return s;
+  }
+};
+
+Simulation::Simulation(model::Plant& plant, SimulationSpec spec) : impl_(std::make_unique<Impl>(plant, std::move(spec))) {}
+Simulation::~Simulation() = default;
+
+std::vector<std::string> Simulation::signal_names() const { return impl_->names; }
+std::vector<long long> Simulation::controller_steps() const {
+  std::vector<long long> r;
+  for (const auto& c : impl_->ctrls) r.push_back(c.steps);
+  return r;
+}
+std::vector<unsigned long long> Simulation::controller_clamp_events() const {
+  std::vector<unsigned long long> r;
+  for (const auto& c : impl_->ctrls)
+    r.push_back(std::visit([](const auto& x) { return x.clamp_events(); }, c.run));
+  return r;
+}
+
+Log Simulation::run(const std::function<void(double)>& on_frame, const std::function<void(double)>& on_progress) {
+  Impl& m = *impl_;
+  const Ns end = static_cast<Ns>(std::llround(m.spec.duration_s * 1e9));
+  if (end <= 0) throw InputError(fmt::format("duration {} s is not positive", m.spec.duration_s));
+  const Ns log_period = period_ns(m.spec.log_rate_hz, "log");
+  const Ns frame_period = m.spec.frame_rate_hz > 0 ? period_ns(m.spec.frame_rate_hz, "frames") : kNever;
+  const Ns t0 = static_cast<Ns>(std::llround(m.plant.time() * 1e9));
+
+  Log log;
+  for (std::size_t s = 0; s < m.names.size(); ++s) log.add_column(m.names[s], m.units[s]);
+  log.reserve(static_cast<std::size_t>(end / log_period) + 2);
+
+  for (auto& c : m.ctrls) c.next_tick = 0;
+  Ns next_log = 0, next_frame = frame_period == kNever ? kNever : 0;
+  Ns next_progress = end / 100;
+  Ns t = 0;
+  m.refresh_true();
+  m.apply_forces(0.0);
+  for (;;) {
+    // Events at t: publications, then controller ticks, then log and frame.
+    for (auto& c : m.ctrls)
+      if (c.publish_at == t) m.publish(c);
+    bool tick = false;
+    for (auto& c : m.ctrls) tick = tick || c.next_tick == t;
+    if (tick) {
+      m.refresh_true();
+      m.refresh_sensors(t);
+      m.refresh_references(m.t_of(t));
+      for (auto& c : m.ctrls) {
+        if (c.next_tick != t) continue;
+        m.step(c);
+        c.next_tick += c.period;
+        if (c.delay == 0) m.publish(c);
+        else c.publish_at = t + c.delay;
+      }
+    }
+    // References are evaluated at every event (at least at the log rate): one that drives
+    // a command is held from event to event.
+    m.refresh_references(m.t_of(t));
+    m.apply_commands();
+    if (t == next_log) {
+      m.refresh_true();
+      m.refresh_references(m.t_of(t));
+      m.fill_logged();
+      log.begin_row(m.t_of(t));
+      for (std::size_t s = 0; s < m.bus.size(); ++s) log.set(static_cast<int>(s) + 1, m.bus[s]);
+      next_log += log_period;
+    }
+    if (t == next_frame) {
+      if (on_frame) on_frame(m.t_of(t));
+      next_frame += frame_period;
+    }
+    if (on_progress && t >= next_progress) {
+      on_progress(static_cast<double>(t) / static_cast<double>(end));
+      next_progress += std::max<Ns>(end / 100, 1);
+    }
+    if (t >= end) break;
+    Ns next = std::min({end, next_log, next_frame});
+    for (const auto& c : m.ctrls) next = std::min({next, c.next_tick, c.publish_at});
+    try {
+      m.plant.advance_to(m.t_of(t0 + next));
+    } catch (const model::ModelError& e) {
+      m.refresh_true();
+      throw DivergenceError(fmt::format("{} ({})", e.what(), m.state_text()));
+    }
+    m.advance_thermal(m.t_of(next - t));
+    t = next;
+    m.apply_forces(m.t_of(t));
+    m.refresh_true();
+    for (int j = 0; j < m.nj; ++j)
+      if (!std::isfinite(m.q[j]) || std::abs(m.qd[j]) > m.spec.max_joint_rate_rad_s)
+        throw DivergenceError(fmt::format("simulation diverged at t = {:.6g} s: joint '{}' runs away ({})", m.t_of(t),
+                                          m.plant.joint_names()[static_cast<std::size_t>(j)], m.state_text()));
+  }
+  if (on_progress) on_progress(1.0);
+  return log;
+}
+
+}  // namespace dmbd::sim
