@@ -324,7 +324,7 @@ struct Plant::Impl {
       matter.getMobilizedBody(tree.coord_body[c]).applyOneMobilityForce(s, 0, torques[static_cast<int>(c)], f);
     for (std::size_t k = 0; k < acts.size(); ++k)
       matter.getMobilizedBody(acts[k].rotor)
-          .applyOneMobilityForce(s, 0, acts[k].p.k_tau_Nm_per_A * currents[static_cast<int>(k)], f);
+          .applyOneMobilityForce(s, 0, acts[k].p.efficiency * acts[k].p.k_tau_Nm_per_A * currents[static_cast<int>(k)], f);
     inputs.setAllMobilityForces(s, f);
   }
 };
@@ -435,6 +435,9 @@ void Plant::set_external_force(int link, const Eigen::Vector3d& p_L, const Eigen
   Impl& m = *impl_;
   if (link < 0 || link >= static_cast<int>(m.tree.link_body.size())) throw ModelError("set_external_force: no link " + std::to_string(link));
   SimTK::State& s = m.ready ? m.integ->updAdvancedState() : m.state;
+  // The point's moment arm needs the body's pose: the state must be at Position. The
+  // spatial force is then held (with this moment) until the next call.
+  m.system.realize(s, SimTK::Stage::Position);
   m.inputs.addForceToBodyPoint(s, m.matter.getMobilizedBody(m.tree.link_body[static_cast<std::size_t>(link)]), to_simtk(p_L), to_simtk(f_W));
   if (m.ready) m.integ->reinitialize(SimTK::Stage::Dynamics, false);
 }

@@ -548,7 +548,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     const double n_l = a.linkage.N_l(initial_of(a.joint));
     res.truth = {{"J_m", a.J_m_kgm2}, {"B_m", a.B_m_Nms}, {"M_r", a.M_r_kg}, {"B_r", a.B_s_Ns_per_m}, {"K_r", a.K_s_N_per_m},
                  {"B_l", a.B_l_Ns_per_m}, {"M_l", subtree_axis_inertia(robot, j) * n_l * n_l}, {"k_tau", a.k_tau_Nm_per_A},
-                 {"N_m", a.N_m_rad_per_m}, {"N_l", n_l}, {"q0", initial_of(a.joint)}};
+                 {"N_m", a.N_m_rad_per_m}, {"N_l", n_l}, {"q0", initial_of(a.joint)}, {"efficiency", a.efficiency}};
   }
 
   SimulationSpec spec;

@@ -293,8 +293,19 @@ struct Simulation::Impl {
     }
     if (changed) plant.set_joint_torques(torques);
   }
+  std::vector<double> force_values;
+  // Forces are held between events; the plant is only touched when one changes (each
+  // change restarts its integrator).
   void apply_forces(double t) {
     if (spec.forces.empty()) return;
+    bool changed = force_values.size() != spec.forces.size();
+    force_values.resize(spec.forces.size());
+    for (std::size_t f = 0; f < spec.forces.size(); ++f) {
+      const double v = spec.forces[f].source.value(t);
+      changed = changed || v != force_values[f];
+      force_values[f] = v;
+    }
+    if (!changed) return;
     plant.clear_external_forces();
     for (std::size_t f = 0; f < spec.forces.size(); ++f)
       plant.set_external_force(force_link[f], spec.forces[f].point_L, spec.forces[f].direction_W * spec.forces[f].source.value(t));
@@ -385,12 +396,13 @@ Log Simulation::run(const std::function<void(double)>& on_frame, const std::func
         else c.publish_at = t + c.delay;
       }
     }
-    // References are evaluated at every event (at least at the log rate): one that drives
-    // a command is held from event to event.
-    m.refresh_references(m.t_of(t));
+    // References are evaluated at controller ticks and log ticks: one that drives a
+    // command directly is held from log tick to log tick (zero-order hold at the log rate).
+    if (tick || t == next_log) m.refresh_references(m.t_of(t));
     m.apply_commands();
     if (t == next_log) {
       m.refresh_true();
+      if (m.last_sensor_ns != t) m.refresh_sensors(t);  // sensors are also sampled at log ticks
       m.refresh_references(m.t_of(t));
       m.fill_logged();
       log.begin_row(m.t_of(t));

@@ -38,6 +38,7 @@ ActuatorParams knee_table_one() {
   p.M_r_kg = 1.3;
   p.B_l_Ns_per_m = 2.0e4;
   p.k_tau_Nm_per_A = 0.0448;
+  p.efficiency = 1.0;  // the paper's plant has an ideal screw; DRACO's table has 0.9
   p.current_limit_A = 22;
   p.linkage = {0.05, 0.30, 0.5, 1.0};
   return p;

@@ -67,7 +67,7 @@ struct ActuatorParams {
   double k_tau_Nm_per_A = 0.0448;
   double current_limit_A = 22;
   double force_limit_N = 8000;
-  double efficiency = 0.9;           // drive efficiency (documented, not used in the ideal screw)
+  double efficiency = 0.9;           // drive efficiency: the motor torque reaching the screw is efficiency x k_tau i
   LinkageGeometry linkage;
   ThermalParams thermal;
   EncoderParams motor_encoder;       // on the rotor

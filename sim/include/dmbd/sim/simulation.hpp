@@ -12,7 +12,7 @@
 // integer nanosecond grid, so runs are exactly repeatable.
 //
 // Bus signals (per joint J of the plant; the sensor ones are sampled at controller
-// ticks and logged):
+// ticks and at log ticks, and logged):
 //   J.q, J.qd                true joint angle (rad) and rate (rad/s)
 //   J.current, J.torque      commands (A for an actuated joint; N m for any joint)
 //   and for a joint with an actuator:
@@ -21,7 +21,9 @@
 //   J.q_pot                  joint angle from the potentiometer (noise, ADC, 1st-order filter)
 //   J.force                  sensed actuator force K_s x_s (elastomer encoder), N
 //   J.motor_angle, J.spring_deflection   encoder readings (rad, m)
-// plus every reference (its name) and every controller output (its bus name).
+// plus every reference (its name) and every controller output (its bus name). A
+// reference may also drive a command directly ("l_knee.current": a current chirp for
+// system identification): it is then held from log tick to log tick.
 #include <cstdint>
 #include <functional>
 #include <memory>

@@ -1,0 +1,745 @@
+// Tests for the mesh renderer (dmbd::viz::Renderer) and the robot scene: projection
+// against the pinhole formula, z-buffer order independence, silhouette area against
+// the analytic projected area, Lambert shading, the ground grid, near-plane clipping,
+// DRACO images, overlays, and no heap allocation per frame.
+//
+// Set DMBD_RENDER_SAMPLE_DIR to a folder to also write the DRACO frames as PNG files.
+#include "dmbd/viz/renderer.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "dmbd/model/robot_description.hpp"
+#include "dmbd/viz/plot.hpp"
+#include "dmbd/viz/robot_scene.hpp"
+
+// ---------------------------------------------------------------------------------
+// Allocation counter: the C allocation functions are replaced in this executable (glibc
+// exports its own as __libc_*), so every heap allocation made by the process, by
+// operator new, OpenCV's fastMalloc (posix_memalign) or C code, is counted while
+// g_counting is set.
+extern "C" {
+void* __libc_malloc(std::size_t);
+void __libc_free(void*);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+}
+
+namespace {
+volatile bool g_counting = false;
+volatile long g_allocations = 0;
+void count_one() {
+  if (g_counting) g_allocations = g_allocations + 1;
+}
+}  // namespace
+
+extern "C" {
+void* malloc(std::size_t n) noexcept {
+  count_one();
+  return __libc_malloc(n);
+}
+void free(void* p) noexcept { __libc_free(p); }
+void* calloc(std::size_t a, std::size_t b) noexcept {
+  count_one();
+  return __libc_calloc(a, b);
+}
+void* realloc(void* p, std::size_t n) noexcept {
+  count_one();
+  return __libc_realloc(p, n);
+}
+void* memalign(std::size_t alignment, std::size_t n) noexcept {
+  count_one();
+  return __libc_memalign(alignment, n);
+}
+void* aligned_alloc(std::size_t alignment, std::size_t n) noexcept {
+  count_one();
+  return __libc_memalign(alignment, n);
+}
+int posix_memalign(void** out, std::size_t alignment, std::size_t n) noexcept {
+  count_one();
+  void* p = __libc_memalign(alignment, n);
+  if (p == nullptr) return ENOMEM;
+  *out = p;
+  return 0;
+}
+}
+
+namespace dmbd::viz {
+namespace {
+
+constexpr int kW = 640, kH = 360;  // small frames keep the tests fast
+
+Eigen::Isometry3d pose(const Eigen::Vector3d& p, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = R;
+  X.translation() = p;
+  return X;
+}
+
+Eigen::Matrix3d rot(double angle_rad, const Eigen::Vector3d& axis) {
+  return Eigen::AngleAxisd(angle_rad, axis.normalized()).toRotationMatrix();
+}
+
+Camera camera(const Eigen::Vector3d& position, const Eigen::Vector3d& look_at, int w = kW, int h = kH,
+              double fov_deg = 40) {
+  Camera c;
+  c.position = position;
+  c.look_at = look_at;
+  c.width_px = w;
+  c.height_px = h;
+  c.fov_y_deg = fov_deg;
+  return c;
+}
+
+SceneMesh coloured(SceneMesh m, float r, float g, float b) {
+  m.rgba = {r, g, b, 1.0f};
+  return m;
+}
+
+Scene one_body(SceneMesh m, const std::string& name = "body") {
+  Scene s;
+  s.bodies.push_back({name, {std::move(m)}});
+  return s;
+}
+
+// A square quad in the body's x-y plane, side `side_m`, normal +z, no vertex normals.
+SceneMesh quad(double side_m) {
+  const float h = static_cast<float>(0.5 * side_m);
+  SceneMesh m;
+  m.vertices = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+int count_ids(const cv::Mat& ids, int id) {
+  int n = 0;
+  for (int r = 0; r < ids.rows; ++r)
+    for (int c = 0; c < ids.cols; ++c) n += ids.at<std::int16_t>(r, c) == id ? 1 : 0;
+  return n;
+}
+
+cv::Vec3b pixel_at(const cv::Mat& img, const Eigen::Vector2d& uv) {
+  return img.at<cv::Vec3b>(static_cast<int>(std::floor(uv.y())), static_cast<int>(std::floor(uv.x())));
+}
+
+double srgb_to_linear(double c8) {
+  const double c = c8 / 255.0;
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+// ---------------------------------------------------------------------------------
+// Camera.
+
+TEST(Camera, ProjectionMatchesPinholeFormula) {
+  const Camera cam = camera({3.0, -2.0, 1.5}, {0.2, 0.1, 0.7}, 1280, 720, 50);
+  // The pinhole model built independently: Gram-Schmidt of `up` against the view axis.
+  const Eigen::Vector3d fwd = (cam.look_at - cam.position).normalized();
+  const Eigen::Vector3d up_img = (cam.up - cam.up.dot(fwd) * fwd).normalized();
+  const Eigen::Vector3d right = fwd.cross(up_img);
+  const double f = 360.0 / std::tan(25.0 * M_PI / 180.0);
+  EXPECT_NEAR(focal_length_px(cam), f, 1e-9);
+  const std::vector<Eigen::Vector3d> points = {cam.look_at, {0, 0, 0}, {1, 1, 2}, {-0.5, 0.7, 0.1}, {2.0, -1.0, 1.4}};
+  for (const auto& p : points) {
+    const Eigen::Vector3d d = p - cam.position;
+    const double u = 640.0 + f * d.dot(right) / d.dot(fwd);
+    const double v = 360.0 - f * d.dot(up_img) / d.dot(fwd);
+    const auto uv = project(cam, p);
+    ASSERT_TRUE(uv.has_value());
+    EXPECT_NEAR(uv->x(), u, 0.5) << p.transpose();
+    EXPECT_NEAR(uv->y(), v, 0.5) << p.transpose();
+  }
+  // The look-at point is the image centre; the top edge of the field of view is row 0.
+  EXPECT_NEAR(project(cam, cam.look_at)->x(), 640.0, 1e-9);
+  EXPECT_NEAR(project(cam, cam.look_at)->y(), 360.0, 1e-9);
+  const Eigen::Vector3d top_ray = Eigen::AngleAxisd(25.0 * M_PI / 180.0, right) * fwd;  // tilted up
+  EXPECT_NEAR(project(cam, cam.position + 3.0 * top_ray)->y(), 0.0, 1e-6);
+  // Behind the camera, or nearer than the near plane: no projection.
+  EXPECT_FALSE(project(cam, cam.position - fwd).has_value());
+  EXPECT_FALSE(project(cam, cam.position + 0.5 * cam.near_m * fwd).has_value());
+}
+
+TEST(Camera, RasterisedSphereCentredOnItsProjection) {
+  // The renderer and project() agree: the centroid of a small sphere's pixels lies on
+  // the projection of its centre (a sphere's image is an ellipse whose centroid is off
+  // the projected centre by ~ f r^2 tan(a) / d^2: 0.03 px here), within 0.5 px.
+  const Camera cam = camera({2.5, 1.5, 1.2}, {0, 0, 0.5});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(one_body(sphere_mesh(0.05, 48)));
+  const Eigen::Vector3d centre(0.3, -0.2, 0.7);
+  renderer.render({pose(centre)}, cam);
+  const cv::Mat mask = renderer.body_ids() == 0;
+  const cv::Moments mo = cv::moments(mask, true);
+  ASSERT_GT(mo.m00, 100);
+  const auto uv = project(cam, centre);
+  ASSERT_TRUE(uv.has_value());
+  EXPECT_NEAR(mo.m10 / mo.m00 + 0.5, uv->x(), 0.5);  // pixel (c, r) has centre (c + 0.5, r + 0.5)
+  EXPECT_NEAR(mo.m01 / mo.m00 + 0.5, uv->y(), 0.5);
+}
+
+TEST(Camera, InvalidCamerasAndInputsThrow) {
+  Camera c = camera({1, 0, 1}, {0, 0, 1});
+  c.up = Eigen::Vector3d::UnitX();  // parallel to the view direction
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c = camera({1, 0, 1}, {1, 0, 1});
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c = camera({1, 0, 1}, {0, 0, 1});
+  c.fov_y_deg = 180;
+  EXPECT_THROW(validate(c), std::invalid_argument);
+
+  Renderer renderer(kW, kH);
+  renderer.set_scene(one_body(box_mesh({0.1, 0.1, 0.1})));
+  EXPECT_THROW(renderer.render({}, camera({1, 0, 1}, {0, 0, 0})), std::invalid_argument);  // 0 poses, 1 body
+  EXPECT_THROW(renderer.render({pose({0, 0, 0})}, camera({1, 0, 1}, {0, 0, 0}, 320, 200)), std::invalid_argument);
+  SceneMesh bad = quad(0.1);
+  bad.triangles.push_back({0, 1, 4});
+  EXPECT_THROW(renderer.set_scene(one_body(bad)), std::invalid_argument);
+  bad = quad(0.1);
+  bad.normals = {Eigen::Vector3f::UnitZ()};
+  EXPECT_THROW(renderer.set_scene(one_body(bad)), std::invalid_argument);
+  EXPECT_THROW(Renderer(8, 8), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------
+// Visibility and coverage.
+
+TEST(Rasteriser, NearBoxOccludesFarBoxInEitherDrawOrder) {
+  const Camera cam = camera({3, 0, 1}, {0, 0, 1});
+  const SceneMesh near_box = coloured(box_mesh({0.3, 0.3, 0.3}), 0.9f, 0.1f, 0.1f);
+  const SceneMesh far_box = coloured(box_mesh({0.6, 0.6, 0.6}), 0.1f, 0.2f, 0.9f);
+  const Eigen::Isometry3d X_near = pose({1.0, 0.1, 1.0}), X_far = pose({-1.0, 0.0, 1.0});
+  Scene near_first, far_first;
+  near_first.bodies = {{"near", {near_box}}, {"far", {far_box}}};
+  far_first.bodies = {{"far", {far_box}}, {"near", {near_box}}};
+  Renderer a(kW, kH), b(kW, kH);
+  a.set_scene(near_first);
+  b.set_scene(far_first);
+  const cv::Mat img_a = a.render({X_near, X_far}, cam).clone();
+  const cv::Mat img_b = b.render({X_far, X_near}, cam).clone();
+  // The same image whichever body is drawn first (exact: the depth test is strict and
+  // the two boxes never tie in depth).
+  EXPECT_EQ(cv::norm(img_a, img_b, cv::NORM_INF), 0.0);
+  // The near box's centre pixel shows the near box (red), in both renderers.
+  const Eigen::Vector2d c_near = *project(cam, X_near.translation());
+  EXPECT_EQ(a.body_ids().at<std::int16_t>(int(c_near.y()), int(c_near.x())), 0);
+  EXPECT_EQ(b.body_ids().at<std::int16_t>(int(c_near.y()), int(c_near.x())), 1);
+  const cv::Vec3b px = pixel_at(img_a, c_near);
+  EXPECT_GT(px[2], px[0] + 60);  // red over blue (BGR)
+  // The far box shows around it.
+  EXPECT_GT(count_ids(a.body_ids(), 1), 2000);
+}
+
+TEST(Rasteriser, CubeSilhouetteAreaMatchesProjectedHull) {
+  // A convex polyhedron's image under a pinhole is the convex hull of its projected
+  // vertices. Pixel-centre sampling of straight edges errs by a fraction of the number
+  // of boundary pixels (here ~700 px around ~45000 px, < 1.6% in the worst case and
+  // well under it on average); 1% still catches a focal length off by 0.5% or cracks
+  // along the diagonals of the faces.
+  const Camera cam = camera({1.6, 0.7, 1.2}, {0, 0, 0.6});
+  const Eigen::Isometry3d X = pose({0.05, -0.03, 0.62}, rot(0.5, {0.3, 0.2, 1.0}));
+  Renderer renderer(kW, kH);
+  renderer.set_scene(one_body(box_mesh({0.6, 0.6, 0.6})));
+  renderer.render({X}, cam);
+  std::vector<cv::Point2f> corners;
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d p_B(i & 1 ? 0.3 : -0.3, i & 2 ? 0.3 : -0.3, i & 4 ? 0.3 : -0.3);
+    const auto uv = project(cam, X * p_B);
+    ASSERT_TRUE(uv.has_value());
+    corners.emplace_back(static_cast<float>(uv->x()), static_cast<float>(uv->y()));
+  }
+  std::vector<cv::Point2f> hull;
+  cv::convexHull(corners, hull);
+  const double analytic = cv::contourArea(hull);
+  const int rendered = count_ids(renderer.body_ids(), 0);
+  ASSERT_GT(analytic, 20000);
+  EXPECT_NEAR(rendered / analytic, 1.0, 0.01) << rendered << " px vs " << analytic << " px^2";
+  // The box is closed, so the faces turned away from the camera (two triangles each) were culled.
+  int hidden_faces = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double sgn : {-1.0, 1.0}) {
+      const Eigen::Vector3d n_W = X.linear() * (sgn * Eigen::Vector3d::Unit(axis));
+      const Eigen::Vector3d centre_W = X * (0.3 * sgn * Eigen::Vector3d::Unit(axis));
+      hidden_faces += n_W.dot(centre_W - cam.position) > 0 ? 1 : 0;
+    }
+  EXPECT_EQ(renderer.closed_mesh_count(), 1u);
+  EXPECT_EQ(renderer.stats().triangles_backfacing, 2u * hidden_faces);
+}
+
+TEST(Rasteriser, CullingOnlyWhereSafeDoesNotChangeTheImage) {
+  const Camera cam = camera({2, -1.5, 1.4}, {0, 0, 0.5});
+  SceneMesh closed = box_mesh({0.5, 0.3, 0.4});
+  SceneMesh two_sided = closed;
+  two_sided.faces = SceneMesh::Faces::TwoSided;
+  Renderer a(kW, kH), b(kW, kH);
+  a.set_scene(one_body(closed));
+  b.set_scene(one_body(two_sided));
+  const Eigen::Isometry3d X = pose({0, 0, 0.5}, rot(0.3, {1, 2, 3}));
+  const cv::Mat img_a = a.render({X}, cam).clone();
+  const cv::Mat img_b = b.render({X}, cam).clone();
+  EXPECT_EQ(a.closed_mesh_count(), 1u);
+  EXPECT_EQ(b.closed_mesh_count(), 0u);
+  EXPECT_GT(a.stats().triangles_backfacing, 0u);
+  EXPECT_EQ(b.stats().triangles_backfacing, 0u);
+  EXPECT_EQ(cv::norm(img_a, img_b, cv::NORM_INF), 0.0);
+
+  // An open quad is not culled: it is seen from behind too.
+  Renderer q(kW, kH);
+  q.set_scene(one_body(quad(0.4)));
+  EXPECT_EQ(q.closed_mesh_count(), 0u);
+  q.render({pose({0, 0, 0.5}, rot(M_PI / 2, {0, 1, 0}))}, camera({2, 0, 0.5}, {0, 0, 0.5}));   // normal +x: front
+  const int front = count_ids(q.body_ids(), 0);
+  q.render({pose({0, 0, 0.5}, rot(-M_PI / 2, {0, 1, 0}))}, camera({2, 0, 0.5}, {0, 0, 0.5}));  // normal -x: back
+  const int back = count_ids(q.body_ids(), 0);
+  EXPECT_GT(front, 1000);
+  EXPECT_EQ(front, back);
+}
+
+TEST(Rasteriser, TriangleCrossingTheNearPlaneIsClipped) {
+  // Camera at the origin looking along +x (image right = -y, image down = -z).
+  const Camera cam = camera({0, 0, 0}, {1, 0, 0});
+  const double f = focal_length_px(cam);
+  Renderer renderer(kW, kH);
+  renderer.style().ground = false;
+  SceneMesh tri;
+  tri.vertices = {{1.0f, -0.3f, -0.2f}, {1.0f, 0.3f, -0.2f}, {-1.0f, 0.0f, 0.3f}};  // the last one behind the camera
+  tri.triangles = {{0, 1, 2}};
+  renderer.set_scene(one_body(tri));
+  renderer.render({Eigen::Isometry3d::Identity()}, cam);
+  const cv::Mat& iz = renderer.inverse_depth();
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(iz, &lo, &hi);
+  EXPECT_TRUE(cv::checkRange(iz));  // no NaN or inf
+  EXPECT_GE(lo, 0.0);
+  EXPECT_LE(hi, 1.0 / cam.near_m * 1.0001);
+  EXPECT_EQ(renderer.stats().triangles_clipped, 1u);
+  // Inside the visible part (x >= near): the point 40% of the way from the A-B midpoint
+  // towards C is at x = 0.2, in front of the camera.
+  const Eigen::Vector3d inside = Eigen::Vector3d(1.0, 0.0, -0.2) + 0.4 * Eigen::Vector3d(-2.0, 0.0, 0.5);
+  const auto uv_in = project(cam, inside);
+  ASSERT_TRUE(uv_in.has_value());
+  EXPECT_EQ(renderer.body_ids().at<std::int16_t>(int(uv_in->y()), int(uv_in->x())), 0);
+  // An unclipped rasteriser would divide by C's negative depth and fill the triangle
+  // towards C's mirror image at (u, v) = (W/2, H/2 + 0.3 f); that region must stay empty.
+  const int v_mirror = static_cast<int>(kH / 2 + 0.25 * f);
+  ASSERT_LT(v_mirror, kH);
+  EXPECT_EQ(renderer.body_ids().at<std::int16_t>(v_mirror, kW / 2), -1);
+  EXPECT_GT(count_ids(renderer.body_ids(), 0), 5000);
+
+  // A vertex exactly in the camera plane (z_C = 0) and one 1e6 m to the side (far
+  // beyond the guard band): finite buffers, the triangle still drawn where expected.
+  SceneMesh wild;
+  wild.vertices = {{0.0f, 0.0f, -0.5f}, {2.0f, 1e6f, -0.5f}, {2.0f, 0.0f, 0.4f}};
+  wild.triangles = {{0, 1, 2}, {0, 2, 1}};
+  renderer.set_scene(one_body(wild));
+  renderer.render({Eigen::Isometry3d::Identity()}, cam);
+  EXPECT_TRUE(cv::checkRange(renderer.inverse_depth()));
+  // Inside: P0 + 5e-8 (P1 - P0) + 0.9 (P2 - P0).
+  const auto uv_w = project(cam, Eigen::Vector3d(1.8, 0.05, 0.31));
+  ASSERT_TRUE(uv_w.has_value());
+  EXPECT_EQ(renderer.body_ids().at<std::int16_t>(int(uv_w->y()), int(uv_w->x())), 0);
+  const auto uv_out = project(cam, Eigen::Vector3d(2.0, -0.2, 0.0));  // beside it (y < 0)
+  ASSERT_TRUE(uv_out.has_value());
+  EXPECT_EQ(renderer.body_ids().at<std::int16_t>(int(uv_out->y()), int(uv_out->x())), -1);
+}
+
+// ---------------------------------------------------------------------------------
+// Shading.
+
+TEST(Shading, LambertWithAmbient) {
+  // A grey quad facing the camera, lit at angle theta from its normal: the linear
+  // radiance is albedo (ambient + diffuse cos(theta)), clamped at 0 past 90 deg. The
+  // output is sRGB bytes; converting back with the standard sRGB curve costs at most
+  // half an 8-bit step (~0.4% in linear at these levels) plus the 12-bit table: 0.006.
+  const Camera cam = camera({2, 0, 1}, {0, 0, 1});
+  Renderer renderer(kW, kH);
+  RenderStyle& st = renderer.style();
+  st.ground = false;
+  st.ambient_up = st.ambient_down = 0.2;
+  st.diffuse = 0.7;
+  st.fill = 0;
+  st.specular = 0;
+  renderer.set_scene(one_body(coloured(quad(0.5), 0.8f, 0.8f, 0.8f)));
+  const Eigen::Isometry3d X = pose({0, 0, 1}, rot(M_PI / 2, {0, 1, 0}));  // normal +x, towards the camera
+  const double albedo = srgb_to_linear(0.8 * 255.0);
+  const Eigen::Vector2d centre = *project(cam, X.translation());
+  double previous = 1e9;
+  for (const double theta_deg : {0.0, 30.0, 60.0, 80.0, 89.0, 120.0}) {
+    const double th = theta_deg * M_PI / 180.0;
+    st.light_from_W = Eigen::Vector3d(std::cos(th), std::sin(th), 0.0);
+    const cv::Vec3b px = pixel_at(renderer.render({X}, cam), centre);
+    const double expected = albedo * (0.2 + 0.7 * std::max(0.0, std::cos(th)));
+    EXPECT_NEAR(srgb_to_linear(px[1]), expected, 0.006) << theta_deg << " deg";
+    EXPECT_LE(px[1], previous) << theta_deg << " deg";
+    previous = px[1];
+  }
+}
+
+TEST(Shading, FaceTowardsTheLightIsBrighterThanAGrazingFace) {
+  // Default style (ambient, key, fill and specular): a box face whose normal is the
+  // light direction against one at 85 deg from it, both seen by the camera.
+  const Camera cam = camera({2.0, 2.0, 1.0}, {0, 0, 0.5});
+  Renderer renderer(kW, kH);
+  renderer.style().ground = false;
+  const Eigen::Vector3d n_lit(1, 0, 0), n_graze(0, 1, 0);
+  renderer.style().light_from_W = std::cos(5 * M_PI / 180) * n_lit + std::sin(5 * M_PI / 180) * n_graze;
+  renderer.set_scene(one_body(coloured(box_mesh({0.4, 0.4, 0.4}), 0.6f, 0.6f, 0.6f)));
+  const Eigen::Isometry3d X = pose({0, 0, 0.5});
+  const cv::Mat& img = renderer.render({X}, cam);
+  const cv::Vec3b lit = pixel_at(img, *project(cam, X * Eigen::Vector3d(0.2, 0, 0)));     // +x face centre
+  const cv::Vec3b graze = pixel_at(img, *project(cam, X * Eigen::Vector3d(0, 0.2, 0)));   // +y face centre
+  EXPECT_GT(int(lit[1]), int(graze[1]) + 50) << "lit " << lit << " grazing " << graze;
+}
+
+TEST(Shading, VertexNormalsAreInterpolated) {
+  // A quad facing the camera with its vertex normals tilted 60 deg left on one side and
+  // right on the other, the light from the left: brightness falls across it; the same
+  // quad without normals (flat) is uniform.
+  const Camera cam = camera({2, 0, 1}, {0, 0, 1});
+  Renderer renderer(kW, kH);
+  renderer.style().ground = false;
+  renderer.style().specular = 0;
+  // Image right is world +y here. The light comes from the camera side and 70 deg
+  // towards -y, beyond the most tilted normal, so n.l falls monotonically across.
+  renderer.style().light_from_W = Eigen::Vector3d(std::cos(1.2217), -std::sin(1.2217), 0);
+  SceneMesh smooth = coloured(quad(0.5), 0.7f, 0.7f, 0.7f);
+  const Eigen::Vector3f tilt_neg = Eigen::Vector3f(-std::sin(1.0472f), 0, std::cos(1.0472f));
+  const Eigen::Vector3f tilt_pos = Eigen::Vector3f(std::sin(1.0472f), 0, std::cos(1.0472f));
+  smooth.normals = {tilt_neg, tilt_pos, tilt_pos, tilt_neg};  // by body x: -h -> tilt_neg, +h -> tilt_pos
+  // Rotate the quad so its normal is world +x (towards the camera) and its x axis world +y.
+  Eigen::Matrix3d R;
+  R.col(0) = Eigen::Vector3d(0, 1, 0);
+  R.col(1) = Eigen::Vector3d(0, 0, 1);
+  R.col(2) = Eigen::Vector3d(1, 0, 0);
+  const Eigen::Isometry3d X = pose({0, 0, 1}, R);
+  // Light from -y: the body -x side's normals (tilted to world -y) face it.
+  const Eigen::Vector3d p_lit = X * Eigen::Vector3d(-0.2, 0, 0), p_dark = X * Eigen::Vector3d(0.2, 0, 0);
+  renderer.set_scene(one_body(smooth));
+  const cv::Mat img = renderer.render({X}, cam).clone();
+  const int lit = pixel_at(img, *project(cam, p_lit))[1], dark = pixel_at(img, *project(cam, p_dark))[1];
+  EXPECT_GT(lit, dark + 40);
+  // Monotone along the row between them (interpolated, not two flat halves).
+  const int r = static_cast<int>(project(cam, X.translation())->y());
+  const int c0 = static_cast<int>(project(cam, p_lit)->x()), c1 = static_cast<int>(project(cam, p_dark)->x());
+  const int step = c1 > c0 ? 1 : -1;
+  int distinct = 0;
+  for (int c = c0; c != c1; c += step) {
+    const int a = img.at<cv::Vec3b>(r, c)[1], b = img.at<cv::Vec3b>(r, c + step)[1];
+    EXPECT_GE(a, b - 1) << "column " << c;  // falls (1 level of rounding allowed)
+    distinct += a != b ? 1 : 0;
+  }
+  EXPECT_GT(distinct, 20);
+  SceneMesh flat = smooth;
+  flat.normals.clear();
+  renderer.set_scene(one_body(flat));
+  const cv::Mat img_flat = renderer.render({X}, cam).clone();
+  EXPECT_EQ(pixel_at(img_flat, *project(cam, p_lit)), pixel_at(img_flat, *project(cam, p_dark)));
+}
+
+// ---------------------------------------------------------------------------------
+// Ground and background.
+
+TEST(Ground, GridLinesWhereProjected) {
+  const Camera cam = camera({-1.5, -1.2, 1.6}, {0.8, 0.6, 0});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(Scene{});
+  const cv::Mat& img = renderer.render({}, cam);
+  const RenderStyle& st = renderer.style();
+  // Darkest green level in the 3x3 pixels around a projected point (a line passes
+  // within half a pixel of one of their centres).
+  const auto darkest = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector2d uv = *project(cam, p);
+    int m = 255;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) m = std::min<int>(m, img.at<cv::Vec3b>(int(uv.y()) + dr, int(uv.x()) + dc)[1]);
+    return m;
+  };
+  const int ground = st.ground_color.g;
+  // Between lines: the plain ground colour (no shadow, well before the fade at 6 m).
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.45, 0.25, 0), Eigen::Vector3d(1.05, 0.75, 0), Eigen::Vector3d(0.65, 1.15, 0)})
+    EXPECT_NEAR(pixel_at(img, *project(cam, p))[1], ground, 2) << p.transpose();
+  // Minor lines (every 0.1 m): at least half covered, so at least half as dark as the line colour.
+  const int minor_drop = (ground - st.grid_minor_color.g) / 2;
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.3, 0.25, 0), Eigen::Vector3d(0.45, 0.4, 0), Eigen::Vector3d(0.7, 0.85, 0)})
+    EXPECT_LE(darkest(p), ground - minor_drop) << p.transpose();
+  // Major lines (every 1 m): darker still.
+  const int major_drop = (ground - st.grid_major_color.g) * 3 / 4;
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1.0, 0.25, 0), Eigen::Vector3d(1.0, 0.75, 0), Eigen::Vector3d(0.45, 1.0, 0)})
+    EXPECT_LE(darkest(p), ground - major_drop) << p.transpose();
+  // The world x axis (y = 0) is red.
+  const Eigen::Vector2d ax = *project(cam, Eigen::Vector3d(0.55, 0, 0));
+  int redness = -255;
+  for (int dr = -1; dr <= 1; ++dr) {
+    const cv::Vec3b px = img.at<cv::Vec3b>(int(ax.y()) + dr, int(ax.x()));
+    redness = std::max(redness, int(px[2]) - int(px[1]));
+  }
+  EXPECT_GT(redness, 60);
+  // Turning the grid off leaves plain ground there.
+  renderer.style().grid = false;
+  renderer.style().axes = false;
+  const cv::Mat& plain = renderer.render({}, cam);
+  EXPECT_NEAR(pixel_at(plain, *project(cam, Eigen::Vector3d(1.0, 0.25, 0)))[1], ground, 2);
+}
+
+TEST(Ground, SkyAboveTheHorizonGroundBelow) {
+  // A level camera 1 m up: the horizon is the middle row. Sky above (blue over red, no
+  // depth), ground below (depth 1/z of the ground point, no body).
+  const Camera cam = camera({0, 0, 1}, {5, 0, 1});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(Scene{});
+  const cv::Mat& img = renderer.render({}, cam);
+  const cv::Vec3b sky = img.at<cv::Vec3b>(10, kW / 2);
+  EXPECT_GT(sky[0], sky[2] + 30);
+  EXPECT_EQ(renderer.inverse_depth().at<float>(10, kW / 2), 0.0f);
+  // Row r below the horizon sees the ground at camera depth z = f h / (r + 0.5 - H/2).
+  const double f = focal_length_px(cam);
+  for (const int r : {kH / 2 + 20, kH / 2 + 90, kH - 1})
+    EXPECT_NEAR(renderer.inverse_depth().at<float>(r, kW / 2), (r + 0.5 - kH / 2.0) / f, 1e-5) << r;
+  EXPECT_EQ(count_ids(renderer.body_ids(), -1), kW * kH);
+}
+
+TEST(Ground, ShadowFallsAwayFromTheLight) {
+  const Camera cam = camera({0.0, -3.0, 2.5}, {0, 0, 0.3});
+  Renderer renderer(kW, kH);
+  renderer.style().light_from_W = Eigen::Vector3d(1, 0, 1);  // 45 deg from +x: shadow towards -x
+  renderer.style().grid = false;
+  renderer.style().axes = false;
+  renderer.set_scene(one_body(box_mesh({0.2, 0.2, 0.2})));
+  const cv::Mat& img = renderer.render({pose({0, 0, 0.5})}, cam);
+  // The box at height 0.4..0.6 m casts its shadow onto x in [-0.7, -0.3].
+  const int in_shadow = pixel_at(img, *project(cam, Eigen::Vector3d(-0.5, 0, 0)))[1];
+  const int lit = pixel_at(img, *project(cam, Eigen::Vector3d(0.5, 0, 0)))[1];
+  EXPECT_LT(in_shadow, lit - 40);
+  EXPECT_NEAR(lit, renderer.style().ground_color.g, 2);
+}
+
+// ---------------------------------------------------------------------------------
+// DRACO.
+
+class Draco : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    robot_ = new model::RobotDescription(model::load_urdf(DMBD_DRACO_DIR "/draco.urdf"));
+    scene_ = new Scene(scene_from_robot(*robot_));
+  }
+  static void TearDownTestSuite() {
+    delete scene_;
+    delete robot_;
+  }
+  static std::vector<double> zeros() { return std::vector<double>(robot_->joints.size(), 0.0); }
+  static model::RobotDescription* robot_;
+  static Scene* scene_;
+};
+model::RobotDescription* Draco::robot_ = nullptr;
+Scene* Draco::scene_ = nullptr;
+
+void save_sample(const cv::Mat& img, const std::string& name) {
+  if (const char* dir = std::getenv("DMBD_RENDER_SAMPLE_DIR")) write_file_atomic(std::string(dir) + "/" + name, encode_png(img));
+}
+
+TEST_F(Draco, SceneFromRobot) {
+  ASSERT_EQ(scene_->bodies.size(), robot_->links.size());
+  std::size_t visuals = 0;
+  for (std::size_t i = 0; i < robot_->links.size(); ++i) {
+    EXPECT_EQ(scene_->bodies[i].name, robot_->links[i].name);
+    for (const auto& s : robot_->links[i].visuals)
+      visuals += (s.geometry.kind != model::Geometry::Kind::Mesh || s.geometry.mesh) ? 1 : 0;
+  }
+  std::size_t meshes = 0;
+  for (const auto& b : scene_->bodies) meshes += b.meshes.size();
+  EXPECT_EQ(meshes, visuals);
+  EXPECT_EQ(meshes, 46u);  // 29 meshes + 17 primitives (model/draco/README.md)
+  EXPECT_GT(scene_->triangle_count(), 10000u);
+  // Every part is closed and outward wound (the README's claim), so all are culled safely.
+  Renderer renderer(kW, kH);
+  renderer.set_scene(*scene_);
+  EXPECT_EQ(renderer.closed_mesh_count(), meshes);
+  // Preview kinematics agree with the model's default pose; standing, the visuals are 1.30 m tall.
+  const auto X_zero = link_frames(*robot_, zeros());
+  const auto X_model = model::default_pose_link_frames(*robot_);
+  ASSERT_EQ(X_zero.size(), X_model.size());
+  for (std::size_t i = 0; i < X_zero.size(); ++i) EXPECT_TRUE(X_zero[i].isApprox(X_model[i], 1e-12)) << i;
+  auto X = X_zero;
+  place_on_ground(*scene_, X);
+  const Eigen::AlignedBox3d box = scene_bounds(*scene_, X);
+  EXPECT_NEAR(box.min().z(), 0.0, 1e-9);
+  EXPECT_NEAR(box.max().z(), 1.30, 0.01);
+}
+
+TEST_F(Draco, RendersTheRobotAndTheBentKnee) {
+  Renderer renderer(1280, 720);
+  renderer.set_scene(*scene_);
+  auto X = link_frames(*robot_, zeros());
+  const double lift = place_on_ground(*scene_, X);
+  const Camera cam = default_robot_camera(1.30);
+  const cv::Mat straight = renderer.render(X, cam).clone();
+  const cv::Mat ids = renderer.body_ids().clone();
+  save_sample(straight, "draco_render.png");
+
+  // Many robot pixels, all well inside the frame, the robot filling most of its height.
+  const cv::Mat robot = ids >= 0;
+  const int n_robot = cv::countNonZero(robot);
+  EXPECT_GT(n_robot, 0.04 * 1280 * 720);
+  const cv::Rect bbox = cv::boundingRect(robot);
+  EXPECT_GT(bbox.x, 0.05 * 1280);
+  EXPECT_GT(bbox.y, 0.05 * 720);
+  EXPECT_LT(bbox.x + bbox.width, 0.95 * 1280);
+  EXPECT_LT(bbox.y + bbox.height, 0.95 * 720);
+  EXPECT_GT(bbox.height, 0.6 * 720);
+  // The torso, thighs, shanks and feet are all visible.
+  for (const char* name : {"torso", "l_thigh", "r_thigh", "l_shank", "r_shank", "l_foot", "r_foot"}) {
+    const int id = robot_->link_index(name);
+    ASSERT_GE(id, 0) << name;
+    EXPECT_GT(count_ids(ids, id), 300) << name;
+  }
+  // Lit, not black or blown out, and shaded (not one flat colour).
+  cv::Mat grey;
+  cv::cvtColor(straight, grey, cv::COLOR_BGR2GRAY);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(grey, mean, stddev, robot);
+  EXPECT_GT(mean[0], 50);
+  EXPECT_LT(mean[0], 210);
+  EXPECT_GT(stddev[0], 15);
+  // The torso is above the thighs in the image.
+  const cv::Moments torso = cv::moments(ids == robot_->link_index("torso"), true);
+  const cv::Moments shank = cv::moments(ids == robot_->link_index("l_shank"), true);
+  EXPECT_LT(torso.m01 / torso.m00, shank.m01 / shank.m00);
+
+  // Left knee bent by 1 rad, the torso where it was: the left leg's pixels change, the torso's do not.
+  std::vector<double> q = zeros();
+  q[robot_->joint_index("l_knee")] = 1.0;
+  auto X_bent = link_frames(*robot_, q);
+  for (auto& Xi : X_bent) Xi.translation().z() += lift;
+  const cv::Mat bent = renderer.render(X_bent, cam).clone();
+  const cv::Mat ids_bent = renderer.body_ids().clone();
+  save_sample(bent, "draco_render_knee_bent.png");
+  const int l_shank = robot_->link_index("l_shank"), l_foot = robot_->link_index("l_foot"),
+            torso_id = robot_->link_index("torso");
+  const cv::Mat leg = (ids == l_shank) | (ids == l_foot) | (ids_bent == l_shank) | (ids_bent == l_foot);
+  cv::Mat diff;
+  cv::absdiff(straight, bent, diff);
+  cv::Mat diff_grey;
+  cv::cvtColor(diff, diff_grey, cv::COLOR_BGR2GRAY);
+  const cv::Mat changed = diff_grey > 20;
+  const int leg_pixels = cv::countNonZero(leg);
+  const int leg_changed = cv::countNonZero(changed & leg);
+  EXPECT_GT(leg_changed, 0.5 * leg_pixels) << leg_changed << " of " << leg_pixels;
+  const cv::Mat torso_mask = ids == torso_id;
+  EXPECT_EQ(cv::countNonZero(torso_mask ^ (ids_bent == torso_id)), 0);
+  EXPECT_EQ(cv::countNonZero(changed & torso_mask), 0);
+}
+
+// ---------------------------------------------------------------------------------
+// Overlays.
+
+TEST(Overlays, DrawnWhereProjected) {
+  const Camera cam = camera({2.5, 1.8, 1.4}, {0, 0, 0.5});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(Scene{});
+  const cv::Mat base = renderer.render({}, cam).clone();
+
+  Overlays ov;
+  ov.text_lines = {"t = 1.234 s", "phase: left swing"};
+  ov.com_W = Eigen::Vector3d(0.1, -0.1, 0.8);
+  ov.com_color = {255, 220, 0};
+  ov.forces.push_back({Eigen::Vector3d(-0.3, 0.4, 0.0), Eigen::Vector3d(50, 0, 400), {0, 60, 255}});
+  ov.force_scale_m_per_N = 0.001;
+  const cv::Mat img = renderer.render({}, cam, ov).clone();
+
+  const auto is_com = [](const cv::Vec3b& p) { return p[2] > 200 && p[1] > 170 && p[0] < 90; };
+  const auto is_force = [](const cv::Vec3b& p) { return p[0] > 200 && p[2] < 80; };
+  const auto any_near = [](const cv::Mat& m, const Eigen::Vector2d& uv, int radius, auto pred) {
+    for (int dr = -radius; dr <= radius; ++dr)
+      for (int dc = -radius; dc <= radius; ++dc)
+        if (pred(m.at<cv::Vec3b>(int(uv.y()) + dr, int(uv.x()) + dc))) return true;
+    return false;
+  };
+  // CoM crosshair at the CoM's projection, a marker at its ground point.
+  const Eigen::Vector2d com = *project(cam, *ov.com_W);
+  EXPECT_TRUE(any_near(img, com, 1, is_com));
+  EXPECT_FALSE(any_near(base, com, 1, is_com));
+  const Eigen::Vector2d com_ground = *project(cam, Eigen::Vector3d(0.1, -0.1, 0.0));
+  EXPECT_TRUE(any_near(img, com_ground, 1, is_com));
+  // The ground ring (5 cm radius) passes through the point 5 cm from the ground point.
+  EXPECT_TRUE(any_near(img, *project(cam, Eigen::Vector3d(0.15, -0.1, 0.0)), 1, is_com));
+  // The arrow's shaft through the projection of the middle of the force segment, the head at its tip.
+  const Eigen::Vector3d tail = ov.forces[0].p_W, tip = tail + 0.001 * ov.forces[0].f_W_N;
+  EXPECT_TRUE(any_near(img, *project(cam, 0.5 * (tail + tip)), 1, is_force));
+  EXPECT_TRUE(any_near(img, *project(cam, tip - 0.02 * (tip - tail)), 1, is_force));
+  EXPECT_FALSE(any_near(base, *project(cam, 0.5 * (tail + tip)), 1, is_force));
+  // Nothing is drawn far from the overlays: the bottom-right corner is untouched.
+  const cv::Rect corner(kW - 60, kH - 40, 60, 40);
+  EXPECT_EQ(cv::norm(img(corner), base(corner), cv::NORM_INF), 0.0);
+  // Text on a dark panel in the top-left corner: darker on average, with white strokes.
+  const cv::Rect panel(8, 8, 90, 26);
+  cv::Mat grey, grey_base;
+  cv::cvtColor(img(panel), grey, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(base(panel), grey_base, cv::COLOR_BGR2GRAY);
+  EXPECT_LT(cv::mean(grey)[0], 0.8 * cv::mean(grey_base)[0]);
+  EXPECT_GT(cv::countNonZero(grey > 200), 30);
+  // An arrow whose tail is behind the camera is clipped, not garbage.
+  Overlays behind;
+  behind.forces.push_back({cam.position - 2.0 * (cam.look_at - cam.position), Eigen::Vector3d(0, 0, 1000), {0, 60, 255}});
+  EXPECT_NO_THROW(renderer.render({}, cam, behind));
+}
+
+// ---------------------------------------------------------------------------------
+// No allocation per frame.
+
+TEST_F(Draco, NoHeapAllocationPerFrameAfterWarmUp) {
+  Renderer renderer(kW, kH);
+  renderer.set_scene(*scene_);
+  std::vector<std::vector<Eigen::Isometry3d>> poses;
+  for (int k = 0; k < 4; ++k) {
+    std::vector<double> q = zeros();
+    q[robot_->joint_index("l_knee")] = 0.3 * k;
+    q[robot_->joint_index("r_hip_pitch")] = -0.2 * k;
+    poses.push_back(link_frames(*robot_, q));
+    place_on_ground(*scene_, poses.back());
+  }
+  Overlays ov;
+  ov.text_lines = {"t = 0.000 s", "phase: stance"};
+  ov.com_W = Eigen::Vector3d(0, 0, 0.8);
+  ov.forces.push_back({Eigen::Vector3d(0, 0.17, 0), Eigen::Vector3d(0, 0, 180), {230, 50, 40}});
+  std::vector<Camera> cams;
+  for (int k = 0; k < 4; ++k) {
+    Camera c = default_robot_camera(1.3, kW, kH);
+    c.position += Eigen::Vector3d(0.2 * k, -0.3 * k, 0.1 * k);
+    cams.push_back(c);
+  }
+  cams[3].position = Eigen::Vector3d(0.4, 0.0, 0.9);  // the near plane cuts through the legs
+  cams[3].look_at = Eigen::Vector3d(-1, 0, 0.9);
+  cams[3].near_m = 0.3;
+  renderer.render(poses[0], cams[0], ov);  // warm-up
+  const unsigned char* data = renderer.image().data;
+
+  // The counter sees allocations (so a zero below means something).
+  g_allocations = 0;
+  g_counting = true;
+  std::vector<int>* probe = new std::vector<int>(100);
+  void* c_probe = std::malloc(64);
+  g_counting = false;
+  delete probe;
+  std::free(c_probe);
+  ASSERT_GE(g_allocations, 3);
+
+  std::size_t clipped = 0;
+  g_allocations = 0;
+  g_counting = true;
+  for (int k = 0; k < 8; ++k) {
+    renderer.render(poses[k % 4], cams[(k * 3) % 4], ov);
+    clipped += renderer.stats().triangles_clipped;
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations, 0);
+  EXPECT_EQ(renderer.image().data, data);  // the same buffer
+  EXPECT_GT(clipped, 0u);                  // the clipping path ran too
+}
+
+}  // namespace
+}  // namespace dmbd::viz

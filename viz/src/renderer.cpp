@@ -1,0 +1,1308 @@
+// The mesh renderer: camera, scene preparation, background and ground, soft projected
+// shadows, a z-buffered triangle rasteriser and 2-D overlays.
+//
+// OpenCV has no 3-D rasteriser (its drawing functions are 2-D and have no depth test),
+// so the triangles are rasterised here by hand:
+//   * per mesh: bounding-sphere test against the view frustum, vertices to camera frame
+//     (float), projection and an outcode per vertex;
+//   * per triangle: trivial reject (all vertices beyond one image side or behind the near
+//     plane), back-face culling for meshes found closed and outward wound, clipping in
+//     camera space against the near plane and a guard band only for the few triangles
+//     that need it;
+//   * coverage: fixed-point edge functions (8 sub-pixel bits, int64), exact per row: the
+//     span where all three edge functions are non-negative is estimated in double and
+//     corrected with the exact integer test at its ends, so thin slanted triangles cost
+//     their pixels, not their bounding box. A tie rule (include an edge's pixels when
+//     a > 0, or a == 0 and b < 0, for E = a x + b y + c) draws a pixel centre lying on an
+//     edge shared by two triangles exactly once;
+//   * attributes: 1/z and the normal times 1/z are affine in screen space, evaluated
+//     per pixel from plane equations; normalising the interpolated n/z gives the
+//     perspective-correct normal for free (the 1/z factor cancels);
+//   * shading per pixel in linear light, converted to sRGB through a table.
+// The z-buffer holds 1/z (0 = nothing): larger is nearer.
+//
+// No allocation happens in render() after set_scene(): every buffer is sized before.
+#include "dmbd/viz/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include <opencv2/imgproc.hpp>
+
+namespace dmbd::viz {
+
+// ---------------------------------------------------------------------------------
+// Internal types.
+
+struct Renderer::PreparedMesh {
+  int body = 0;
+  std::vector<Eigen::Vector3f> pos;            // body frame
+  std::vector<Eigen::Vector3f> nrm;            // unit, or empty (flat)
+  std::vector<std::array<int, 3>> tri;
+  float albedo[3] = {0, 0, 0};                 // linear RGB
+  bool cull = false;                           // closed and outward: back faces are never seen
+  bool visible = true;                         // alpha > 0
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // bounding sphere, body frame
+  float radius = 0;
+};
+
+struct Renderer::Vertex {
+  float x, y, z;     // camera frame
+  float nx, ny, nz;  // camera frame, unit (smooth meshes)
+  float sx, sy, iz;  // pixel coordinates and 1/z (valid unless behind the near plane)
+  unsigned code;     // outcode bits below
+};
+
+namespace {
+
+constexpr unsigned kNear = 1, kLeft = 2, kRight = 4, kTop = 8, kBottom = 16, kGuard = 32;
+constexpr unsigned kOutside = kNear | kLeft | kRight | kTop | kBottom;
+constexpr float kGuardPx = 2048.0f;  // beyond the image; keeps fixed-point products far from overflow
+constexpr int kSubBits = 8;
+constexpr std::int64_t kSub = std::int64_t{1} << kSubBits;
+constexpr std::int64_t kHalfSub = kSub / 2;
+constexpr int kShadowN = 256;  // shadow map texels per side
+constexpr int kLutN = 4096;    // linear -> sRGB table entries over [0, 1]
+constexpr int kSkyN = 1024;    // sky colours over the elevation sine in [-1, 1]
+constexpr int kRowArrays = 9;  // float row buffers of the ground pass, W + 4 floats each
+
+// ---------------------------------------------------------------------------------
+// Small helpers.
+
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double linear_to_srgb(double c) { return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
+
+std::int64_t floor_div(std::int64_t n, std::int64_t d) {
+  std::int64_t q = n / d;
+  const std::int64_t r = n % d;
+  if (r != 0 && ((r < 0) != (d < 0))) --q;
+  return q;
+}
+std::int64_t ceil_div(std::int64_t n, std::int64_t d) { return -floor_div(-n, d); }
+
+float clamp01(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+
+// Four floats at a time through GCC/Clang vector extensions (SSE2 on x86-64, NEON on
+// ARM): branch-free arithmetic the ground pass needs, which GCC does not vectorise
+// from scalar code (the float selects stay branches).
+typedef float v4f __attribute__((vector_size(16)));
+typedef int v4i __attribute__((vector_size(16)));
+v4f vset(float x) { return v4f{x, x, x, x}; }
+v4f vload(const float* p) {
+  v4f v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+void vstore(float* p, v4f v) { std::memcpy(p, &v, sizeof v); }
+v4f vmin(v4f a, v4f b) { return a < b ? a : b; }
+v4f vmax(v4f a, v4f b) { return a > b ? a : b; }
+v4f vabs(v4f a) { return a < vset(0.0f) ? -a : a; }
+v4f vclamp01(v4f a) { return vmin(vmax(a, vset(0.0f)), vset(1.0f)); }
+// Distance to the nearest integer (|x| clamped to 1e6 first).
+v4f vfrac_dist(v4f x) {
+  x = vmin(vmax(x, vset(-1e6f)), vset(1e6f));
+  const v4f h = x >= vset(0.0f) ? vset(0.5f) : vset(-0.5f);
+  const v4i i = __builtin_convertvector(x + h, v4i);
+  return vabs(x - __builtin_convertvector(i, v4f));
+}
+
+struct Rgbf {
+  float r, g, b;
+};
+Rgbf rgbf(const Color& c) { return {float(c.r), float(c.g), float(c.b)}; }
+Rgbf lerp(const Rgbf& a, const Rgbf& b, float t) {
+  return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t};
+}
+void put_bgr(unsigned char* p, const Rgbf& c) {
+  p[0] = static_cast<unsigned char>(c.b + 0.5f);
+  p[1] = static_cast<unsigned char>(c.g + 0.5f);
+  p[2] = static_cast<unsigned char>(c.r + 0.5f);
+}
+
+// ---------------------------------------------------------------------------------
+// Rasteriser.
+
+struct Target {
+  unsigned char* rgb;
+  float* z;
+  std::int16_t* id;
+  std::size_t rgb_step, z_step, id_step;  // bytes, floats, int16s per row
+  int W, H;
+};
+
+struct Shader {
+  float L[3], U[3], Hv[3];  // light, world up, half vector (camera frame, unit)
+  float amb_mid, amb_half, kd, kf, ks;
+  const unsigned char* lut;
+  float albedo[3];
+  std::int16_t id;
+
+  void shade(float nx, float ny, float nz, unsigned char* bgr) const {
+    const float len2 = nx * nx + ny * ny + nz * nz;
+    const float inv = len2 > 0.0f ? 1.0f / std::sqrt(len2) : 0.0f;
+    nx *= inv;
+    ny *= inv;
+    nz *= inv;
+    const float nl = nx * L[0] + ny * L[1] + nz * L[2];
+    const float nu = nx * U[0] + ny * U[1] + nz * U[2];
+    float nh = nx * Hv[0] + ny * Hv[1] + nz * Hv[2];
+    nh = nh > 0.0f ? nh : 0.0f;
+    nh *= nh;  // ^2
+    nh *= nh;  // ^4
+    nh *= nh;  // ^8
+    nh *= nh;  // ^16
+    nh *= nh;  // ^32
+    const float light = amb_mid + amb_half * nu + kd * (nl > 0.0f ? nl : 0.0f) + kf * (nz < 0.0f ? -nz : 0.0f);
+    const float spec = ks * nh;
+    const float scale = static_cast<float>(kLutN - 1);
+    const auto idx = [&](float lin) { return static_cast<int>(clamp01(lin) * scale + 0.5f); };
+    bgr[0] = lut[idx(albedo[2] * light + spec)];
+    bgr[1] = lut[idx(albedo[1] * light + spec)];
+    bgr[2] = lut[idx(albedo[0] * light + spec)];
+  }
+};
+
+// A vertex ready for rasterisation: pixel coordinates, 1/z and (smooth) n/z.
+struct RVert {
+  float sx, sy, iz;
+  float nx, ny, nz;
+};
+
+// Rasterises one triangle. kSmooth: interpolate n/z per pixel and shade each pixel;
+// otherwise the whole triangle has the colour `flat`.
+template <bool kSmooth>
+void raster_triangle(const RVert& va, const RVert& vb, const RVert& vc, const Target& t, const Shader& sh,
+                     const unsigned char* flat) {
+  const RVert* v[3] = {&va, &vb, &vc};
+  std::int64_t X[3], Y[3];
+  for (int i = 0; i < 3; ++i) {
+    X[i] = static_cast<std::int64_t>(std::lrint(double(v[i]->sx) * double(kSub)));
+    Y[i] = static_cast<std::int64_t>(std::lrint(double(v[i]->sy) * double(kSub)));
+  }
+  std::int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (Y[1] - Y[0]) * (X[2] - X[0]);
+  if (area == 0) return;
+  if (area < 0) {  // make the edge functions positive inside
+    std::swap(v[1], v[2]);
+    std::swap(X[1], X[2]);
+    std::swap(Y[1], Y[2]);
+    area = -area;
+  }
+  // Pixel-centre bounding box, clamped to the image.
+  const std::int64_t minX = std::min({X[0], X[1], X[2]}), maxX = std::max({X[0], X[1], X[2]});
+  const std::int64_t minY = std::min({Y[0], Y[1], Y[2]}), maxY = std::max({Y[0], Y[1], Y[2]});
+  const std::int64_t c_lo = std::max<std::int64_t>(0, ceil_div(minX - kHalfSub, kSub));
+  const std::int64_t c_hi = std::min<std::int64_t>(t.W - 1, floor_div(maxX - kHalfSub, kSub));
+  const std::int64_t r_lo = std::max<std::int64_t>(0, ceil_div(minY - kHalfSub, kSub));
+  const std::int64_t r_hi = std::min<std::int64_t>(t.H - 1, floor_div(maxY - kHalfSub, kSub));
+  if (c_lo > c_hi || r_lo > r_hi) return;
+
+  // Edge i from v[i] to v[i+1]: E = a x + b y + c, >= 0 inside (after the tie bias).
+  std::int64_t ea[3], eb[3], ec[3], A[3];
+  double invA[3];
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3;
+    ea[i] = Y[i] - Y[j];
+    eb[i] = X[j] - X[i];
+    ec[i] = X[i] * Y[j] - X[j] * Y[i];
+    const bool include_ties = ea[i] > 0 || (ea[i] == 0 && eb[i] < 0);
+    ec[i] += ea[i] * kHalfSub + (include_ties ? 0 : -1);  // pixel centre offset in x, tie bias
+    A[i] = ea[i] * kSub;                                    // per pixel step in x
+    invA[i] = A[i] != 0 ? 1.0 / double(A[i]) : 0.0;
+  }
+
+  // Attribute planes in pixel units, anchored at vertex 0.
+  const double x0 = double(X[0]) / kSub, y0 = double(Y[0]) / kSub;
+  const double e1x = double(X[1] - X[0]) / kSub, e1y = double(Y[1] - Y[0]) / kSub;
+  const double e2x = double(X[2] - X[0]) / kSub, e2y = double(Y[2] - Y[0]) / kSub;
+  const double inv_det = 1.0 / (e1x * e2y - e2x * e1y);
+  struct Plane {
+    double f0, dx, dy;
+  };
+  const auto plane = [&](float f0, float f1, float f2) {
+    const double d1 = double(f1) - f0, d2 = double(f2) - f0;
+    return Plane{double(f0), (d1 * e2y - d2 * e1y) * inv_det, (d2 * e1x - d1 * e2x) * inv_det};
+  };
+  const Plane piz = plane(v[0]->iz, v[1]->iz, v[2]->iz);
+  Plane pnx{}, pny{}, pnz{};
+  if constexpr (kSmooth) {
+    pnx = plane(v[0]->nx, v[1]->nx, v[2]->nx);
+    pny = plane(v[0]->ny, v[1]->ny, v[2]->ny);
+    pnz = plane(v[0]->nz, v[1]->nz, v[2]->nz);
+  }
+
+  const double dc_lo = double(c_lo), dc_hi = double(c_hi);
+  for (std::int64_t r = r_lo; r <= r_hi; ++r) {
+    const std::int64_t py = r * kSub + kHalfSub;
+    std::int64_t E[3];
+    double lo = dc_lo - 1.0, hi = dc_hi + 1.0;
+    bool empty = false;
+    for (int i = 0; i < 3; ++i) {
+      E[i] = eb[i] * py + ec[i];  // value at column 0
+      if (A[i] > 0) {
+        lo = std::max(lo, -double(E[i]) * invA[i]);
+      } else if (A[i] < 0) {
+        hi = std::min(hi, -double(E[i]) * invA[i]);
+      } else if (E[i] < 0) {
+        empty = true;
+      }
+    }
+    if (empty || lo > hi + 2.0) continue;
+    // The double estimate is within a fraction of a pixel; widen by one and trim exactly.
+    std::int64_t x_a = std::max<std::int64_t>(c_lo, static_cast<std::int64_t>(std::ceil(std::min(lo, dc_hi + 1.0))) - 1);
+    std::int64_t x_b = std::min<std::int64_t>(c_hi, static_cast<std::int64_t>(std::floor(std::max(hi, dc_lo - 1.0))) + 1);
+    const auto inside = [&](std::int64_t x) {
+      return E[0] + A[0] * x >= 0 && E[1] + A[1] * x >= 0 && E[2] + A[2] * x >= 0;
+    };
+    while (x_a <= x_b && !inside(x_a)) ++x_a;
+    while (x_b >= x_a && !inside(x_b)) --x_b;
+    if (x_a > x_b) continue;
+
+    const double yc = double(r) + 0.5 - y0, xa = double(x_a) + 0.5 - x0;
+    const float iz0 = static_cast<float>(piz.f0 + piz.dx * xa + piz.dy * yc), dizx = static_cast<float>(piz.dx);
+    float* zrow = t.z + std::size_t(r) * t.z_step;
+    std::int16_t* idrow = t.id + std::size_t(r) * t.id_step;
+    unsigned char* crow = t.rgb + std::size_t(r) * t.rgb_step;
+    const int n = static_cast<int>(x_b - x_a);
+    const int xs = static_cast<int>(x_a);
+    if constexpr (kSmooth) {
+      const float nx0 = static_cast<float>(pnx.f0 + pnx.dx * xa + pnx.dy * yc), nxx = static_cast<float>(pnx.dx);
+      const float ny0 = static_cast<float>(pny.f0 + pny.dx * xa + pny.dy * yc), nyx = static_cast<float>(pny.dx);
+      const float nz0 = static_cast<float>(pnz.f0 + pnz.dx * xa + pnz.dy * yc), nzx = static_cast<float>(pnz.dx);
+      for (int k = 0; k <= n; ++k) {
+        const float iz = iz0 + dizx * float(k);
+        const int x = xs + k;
+        if (iz > zrow[x]) {
+          zrow[x] = iz;
+          idrow[x] = sh.id;
+          sh.shade(nx0 + nxx * float(k), ny0 + nyx * float(k), nz0 + nzx * float(k), crow + 3 * x);
+        }
+      }
+    } else {
+      for (int k = 0; k <= n; ++k) {
+        const float iz = iz0 + dizx * float(k);
+        const int x = xs + k;
+        if (iz > zrow[x]) {
+          zrow[x] = iz;
+          idrow[x] = sh.id;
+          unsigned char* p = crow + 3 * x;
+          p[0] = flat[0];
+          p[1] = flat[1];
+          p[2] = flat[2];
+        }
+      }
+    }
+  }
+}
+
+// Camera-space vertex for clipping.
+struct CVert {
+  float x, y, z, nx, ny, nz;
+};
+
+// Sutherland-Hodgman against the half-space a x + b y + c z + d >= 0. Returns the count.
+int clip_polygon(const CVert* in, int n, CVert* out, float a, float b, float c, float d) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const CVert& p = in[i];
+    const CVert& q = in[(i + 1) % n];
+    const float dp = a * p.x + b * p.y + c * p.z + d;
+    const float dq = a * q.x + b * q.y + c * q.z + d;
+    if (dp >= 0) out[m++] = p;
+    if ((dp >= 0) != (dq >= 0)) {
+      const float s = dp / (dp - dq);
+      out[m++] = {p.x + (q.x - p.x) * s,    p.y + (q.y - p.y) * s,    p.z + (q.z - p.z) * s,
+                  p.nx + (q.nx - p.nx) * s, p.ny + (q.ny - p.ny) * s, p.nz + (q.nz - p.nz) * s};
+    }
+  }
+  return m;
+}
+
+// ---------------------------------------------------------------------------------
+// 2-D anti-aliased overlay primitives on a BGR image (allocation free).
+
+struct Canvas {
+  unsigned char* data;
+  std::size_t step;
+  int W, H;
+  void blend(int x, int y, const Rgbf& c, float a) const {
+    if (a <= 0.0f) return;
+    if (a > 1.0f) a = 1.0f;
+    unsigned char* p = data + std::size_t(y) * step + 3 * std::size_t(x);
+    p[0] = static_cast<unsigned char>(p[0] + (c.b - p[0]) * a + 0.5f);
+    p[1] = static_cast<unsigned char>(p[1] + (c.g - p[1]) * a + 0.5f);
+    p[2] = static_cast<unsigned char>(p[2] + (c.r - p[2]) * a + 0.5f);
+  }
+};
+
+bool finite2(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
+
+// Capsule of half-width `half_px` around the segment p0-p1 (pixel coordinates).
+void draw_segment(const Canvas& cn, Eigen::Vector2d p0, Eigen::Vector2d p1, double half_px, const Rgbf& col,
+                  float alpha) {
+  if (!finite2(p0) || !finite2(p1) || !(half_px > 0)) return;
+  // Keep the coordinates sane: clip the segment to a generous box around the image.
+  const double lim = 4.0 * (cn.W + cn.H);
+  const Eigen::Vector2d dvec = p1 - p0;
+  double t0 = 0, t1 = 1;
+  for (int k = 0; k < 2; ++k) {
+    const double lo = -lim, hi = (k == 0 ? cn.W : cn.H) + lim;
+    const double p = p0[k], d = dvec[k];
+    if (std::fabs(d) < 1e-12) {
+      if (p < lo || p > hi) return;
+      continue;
+    }
+    double a = (lo - p) / d, b = (hi - p) / d;
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  if (t0 > t1) return;
+  const Eigen::Vector2d a = p0 + t0 * dvec, b = p0 + t1 * dvec;
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double R = half_px + 0.5;
+  const int y_lo = std::max(0, static_cast<int>(std::floor(std::min(a.y(), b.y()) - R)));
+  const int y_hi = std::min(cn.H - 1, static_cast<int>(std::ceil(std::max(a.y(), b.y()) + R)));
+  for (int y = y_lo; y <= y_hi; ++y) {
+    const double yc = y + 0.5;
+    // Parameter range of the segment within R of this row, then its x range.
+    double ta = 0, tb = 1;
+    if (std::fabs(ab.y()) > 1e-9) {
+      ta = (yc - R - a.y()) / ab.y();
+      tb = (yc + R - a.y()) / ab.y();
+      if (ta > tb) std::swap(ta, tb);
+      ta = std::max(ta, 0.0);
+      tb = std::min(tb, 1.0);
+      if (ta > tb) continue;
+    } else if (std::fabs(yc - a.y()) > R) {
+      continue;
+    }
+    const double xa = a.x() + ta * ab.x(), xb = a.x() + tb * ab.x();
+    const int x_lo = std::max(0, static_cast<int>(std::floor(std::min(xa, xb) - R)));
+    const int x_hi = std::min(cn.W - 1, static_cast<int>(std::ceil(std::max(xa, xb) + R)));
+    for (int x = x_lo; x <= x_hi; ++x) {
+      const Eigen::Vector2d p(x + 0.5, yc);
+      double s = len2 > 0 ? (p - a).dot(ab) / len2 : 0.0;
+      s = std::clamp(s, 0.0, 1.0);
+      const double dist = (p - (a + s * ab)).norm();
+      cn.blend(x, y, col, alpha * clamp01(static_cast<float>(R - dist)));
+    }
+  }
+}
+
+// Ring of radius r_px and half-width half_px (fill = true: a disc of radius r_px).
+void draw_ring(const Canvas& cn, const Eigen::Vector2d& c, double r_px, double half_px, const Rgbf& col, float alpha,
+               bool fill = false) {
+  if (!finite2(c)) return;
+  const double R = r_px + half_px + 1.0;
+  const int y_lo = std::max(0, static_cast<int>(std::floor(c.y() - R)));
+  const int y_hi = std::min(cn.H - 1, static_cast<int>(std::ceil(c.y() + R)));
+  const int x_lo = std::max(0, static_cast<int>(std::floor(c.x() - R)));
+  const int x_hi = std::min(cn.W - 1, static_cast<int>(std::ceil(c.x() + R)));
+  for (int y = y_lo; y <= y_hi; ++y)
+    for (int x = x_lo; x <= x_hi; ++x) {
+      const double d = std::hypot(x + 0.5 - c.x(), y + 0.5 - c.y());
+      const double cover = fill ? r_px + 0.5 - d : half_px + 0.5 - std::fabs(d - r_px);
+      cn.blend(x, y, col, alpha * clamp01(static_cast<float>(cover)));
+    }
+}
+
+// Filled triangle with anti-aliased edges.
+void draw_triangle(const Canvas& cn, const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,
+                   const Rgbf& col, float alpha) {
+  if (!finite2(p0) || !finite2(p1) || !finite2(p2)) return;
+  const Eigen::Vector2d P[3] = {p0, p1, p2};
+  const double area = (p1 - p0).x() * (p2 - p0).y() - (p1 - p0).y() * (p2 - p0).x();
+  if (std::fabs(area) < 1e-9) return;
+  const double sgn = area > 0 ? 1.0 : -1.0;
+  Eigen::Vector2d nrm[3];
+  double off[3];
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector2d e = P[(i + 1) % 3] - P[i];
+    nrm[i] = sgn * Eigen::Vector2d(-e.y(), e.x()).normalized();  // inward
+    off[i] = -nrm[i].dot(P[i]);
+  }
+  const double lim = 4.0 * (cn.W + cn.H);
+  const int y_lo = std::max(0, static_cast<int>(std::floor(std::max(-lim, std::min({p0.y(), p1.y(), p2.y()}) - 1))));
+  const int y_hi = std::min(cn.H - 1, static_cast<int>(std::ceil(std::min(lim, std::max({p0.y(), p1.y(), p2.y()}) + 1))));
+  const int x_lo = std::max(0, static_cast<int>(std::floor(std::max(-lim, std::min({p0.x(), p1.x(), p2.x()}) - 1))));
+  const int x_hi = std::min(cn.W - 1, static_cast<int>(std::ceil(std::min(lim, std::max({p0.x(), p1.x(), p2.x()}) + 1))));
+  for (int y = y_lo; y <= y_hi; ++y)
+    for (int x = x_lo; x <= x_hi; ++x) {
+      const Eigen::Vector2d p(x + 0.5, y + 0.5);
+      double d = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < 3; ++i) d = std::min(d, nrm[i].dot(p) + off[i]);
+      cn.blend(x, y, col, alpha * clamp01(static_cast<float>(d + 0.5)));
+    }
+}
+
+// Clips the world segment a-b to the camera's near plane and projects it.
+bool project_segment(const Camera& cam, const Eigen::Isometry3d& X_CW, double f, const Eigen::Vector3d& a_W,
+                     const Eigen::Vector3d& b_W, Eigen::Vector2d& pa, Eigen::Vector2d& pb) {
+  Eigen::Vector3d a = X_CW * a_W, b = X_CW * b_W;
+  const double n = cam.near_m;
+  if (a.z() < n && b.z() < n) return false;
+  if (a.z() < n) a = a + (b - a) * ((n - a.z()) / (b.z() - a.z()));
+  if (b.z() < n) b = b + (a - b) * ((n - b.z()) / (a.z() - b.z()));
+  const double cx = 0.5 * cam.width_px, cy = 0.5 * cam.height_px;
+  pa = {cx + f * a.x() / a.z(), cy + f * a.y() / a.z()};
+  pb = {cx + f * b.x() / b.z(), cy + f * b.y() / b.z()};
+  return finite2(pa) && finite2(pb);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------
+// Camera.
+
+void validate(const Camera& c) {
+  const auto finite = [](const Eigen::Vector3d& v) { return v.allFinite(); };
+  if (c.width_px < 1 || c.height_px < 1)
+    throw std::invalid_argument("viz::Camera: image size " + std::to_string(c.width_px) + "x" +
+                                std::to_string(c.height_px) + " px, expected at least 1x1");
+  if (!(c.fov_y_deg > 0 && c.fov_y_deg < 180))
+    throw std::invalid_argument("viz::Camera: fov_y_deg " + std::to_string(c.fov_y_deg) + ", expected in (0, 180)");
+  if (!(c.near_m > 0) || !std::isfinite(c.near_m))
+    throw std::invalid_argument("viz::Camera: near_m " + std::to_string(c.near_m) + ", expected finite and > 0");
+  if (!finite(c.position) || !finite(c.look_at) || !finite(c.up))
+    throw std::invalid_argument("viz::Camera: position, look_at and up must be finite");
+  const Eigen::Vector3d fwd = c.look_at - c.position;
+  if (!(fwd.norm() > 1e-9)) throw std::invalid_argument("viz::Camera: position and look_at coincide");
+  if (!(fwd.normalized().cross(c.up).norm() > 1e-9 * c.up.norm()) || !(c.up.norm() > 0))
+    throw std::invalid_argument("viz::Camera: up is zero or parallel to the view direction");
+}
+
+double focal_length_px(const Camera& c) {
+  return 0.5 * c.height_px / std::tan(0.5 * c.fov_y_deg * M_PI / 180.0);
+}
+
+Eigen::Isometry3d camera_from_world(const Camera& c) {
+  const Eigen::Vector3d z = (c.look_at - c.position).normalized();
+  const Eigen::Vector3d x = z.cross(c.up).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Isometry3d X_WC = Eigen::Isometry3d::Identity();
+  X_WC.linear().col(0) = x;
+  X_WC.linear().col(1) = y;
+  X_WC.linear().col(2) = z;
+  X_WC.translation() = c.position;
+  return X_WC.inverse();
+}
+
+std::optional<Eigen::Vector2d> project(const Camera& c, const Eigen::Vector3d& p_W) {
+  const Eigen::Vector3d p_C = camera_from_world(c) * p_W;
+  if (!(p_C.z() >= c.near_m)) return std::nullopt;
+  const double f = focal_length_px(c);
+  return Eigen::Vector2d(0.5 * c.width_px + f * p_C.x() / p_C.z(), 0.5 * c.height_px + f * p_C.y() / p_C.z());
+}
+
+// ---------------------------------------------------------------------------------
+// Scene.
+
+std::size_t Scene::triangle_count() const {
+  std::size_t n = 0;
+  for (const auto& b : bodies)
+    for (const auto& m : b.meshes) n += m.triangles.size();
+  return n;
+}
+
+std::size_t Scene::vertex_count() const {
+  std::size_t n = 0;
+  for (const auto& b : bodies)
+    for (const auto& m : b.meshes) n += m.vertices.size();
+  return n;
+}
+
+Eigen::AlignedBox3d scene_bounds(const Scene& scene, const std::vector<Eigen::Isometry3d>& X_WB) {
+  if (X_WB.size() != scene.bodies.size())
+    throw std::invalid_argument("viz::scene_bounds: " + std::to_string(X_WB.size()) + " poses for " +
+                                std::to_string(scene.bodies.size()) + " bodies");
+  Eigen::AlignedBox3d box;
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+    for (const auto& m : scene.bodies[b].meshes)
+      for (const auto& v : m.vertices) box.extend(X_WB[b] * v.cast<double>());
+  return box;
+}
+
+double place_on_ground(const Scene& scene, std::vector<Eigen::Isometry3d>& X_WB) {
+  const Eigen::AlignedBox3d box = scene_bounds(scene, X_WB);
+  if (box.isEmpty()) return 0;
+  const double dz = -box.min().z();
+  for (auto& X : X_WB) X.translation().z() += dz;
+  return dz;
+}
+
+// ---------------------------------------------------------------------------------
+// Renderer: construction and scene preparation.
+
+Renderer::~Renderer() = default;
+Renderer::Renderer(const Renderer&) = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+Renderer& Renderer::operator=(const Renderer&) = default;
+Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+Renderer::Renderer(int width_px, int height_px) : width_(width_px), height_(height_px) {
+  if (width_px < 16 || height_px < 16 || width_px > 16384 || height_px > 16384)
+    throw std::invalid_argument("viz::Renderer: image size " + std::to_string(width_px) + "x" +
+                                std::to_string(height_px) + " px, expected each in [16, 16384]");
+  image_.create(height_, width_, CV_8UC3);
+  inv_depth_.create(height_, width_, CV_32F);
+  ids_.create(height_, width_, CV_16S);
+  image_.setTo(cv::Scalar::all(0));
+  inv_depth_.setTo(cv::Scalar::all(0));
+  ids_.setTo(cv::Scalar::all(-1));
+  shadow_n_ = kShadowN;
+  sky_lut_.assign(3 * kSkyN, 0);
+  row_.assign(std::size_t(kRowArrays) * (std::size_t(width_) + 4), 0.0f);
+  shadow_.assign(std::size_t(kShadowN) * kShadowN, 0.0f);
+  shadow_tmp_.assign(std::size_t(kShadowN) * kShadowN, 0.0f);
+  srgb_to_linear_.resize(256);
+  for (int i = 0; i < 256; ++i) srgb_to_linear_[i] = static_cast<float>(srgb_to_linear(i / 255.0));
+  linear_to_srgb_.resize(kLutN);
+  for (int i = 0; i < kLutN; ++i)
+    linear_to_srgb_[i] =
+        static_cast<unsigned char>(std::lround(255.0 * linear_to_srgb(double(i) / double(kLutN - 1))));
+
+  // Glyph cache for the text overlay: each printable ASCII character rendered once by
+  // OpenCV's Hershey font into an anti-aliased mask, then blended per frame by hand
+  // (cv::putText allocates, render() must not).
+  const double scale = std::clamp(0.55 * height_ / 720.0, 0.35, 3.0);
+  const int thickness = std::max(1, static_cast<int>(std::lround(height_ / 720.0)));
+  int baseline = 0;
+  const cv::Size ref = cv::getTextSize("Ag", cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline);
+  text_ascent_px_ = ref.height;
+  text_line_px_ = ref.height + baseline + std::max(4, ref.height / 2);
+  for (int ch = 32; ch < 127; ++ch) {
+    Glyph& g = glyphs_[ch - 32];
+    const std::string s(1, static_cast<char>(ch));
+    int base = 0;
+    const cv::Size sz = cv::getTextSize(s, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &base);
+    const int m = thickness + 2;
+    g.advance = sz.width;
+    g.coverage = cv::Mat::zeros(ref.height + baseline + 2 * m, sz.width + 2 * m, CV_8U);
+    cv::putText(g.coverage, s, cv::Point(m, m + ref.height), cv::FONT_HERSHEY_SIMPLEX, scale, cv::Scalar(255),
+                thickness, cv::LINE_AA);
+    g.x0 = -m;
+    g.y0 = -(m + ref.height);
+  }
+}
+
+std::size_t Renderer::closed_mesh_count() const {
+  std::size_t n = 0;
+  for (const auto& m : meshes_) n += m.cull ? 1 : 0;
+  return n;
+}
+
+namespace {
+
+// Closed and consistently wound outward: with vertices welded by exact position, every
+// directed edge appears once and its reverse once (degenerate triangles ignored), and
+// the enclosed volume is positive.
+bool closed_outward(const SceneMesh& m) {
+  if (m.triangles.empty()) return false;
+  struct KeyHash {
+    std::size_t operator()(const std::array<std::uint32_t, 3>& k) const {
+      std::uint64_t h = 1469598103934665603ull;
+      for (auto v : k) h = (h ^ v) * 1099511628211ull;
+      return static_cast<std::size_t>(h);
+    }
+  };
+  std::unordered_map<std::array<std::uint32_t, 3>, int, KeyHash> weld;
+  std::vector<int> id(m.vertices.size());
+  for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+    std::array<std::uint32_t, 3> k{};
+    for (int c = 0; c < 3; ++c) {
+      float v = m.vertices[i][c];
+      if (v == 0.0f) v = 0.0f;  // -0 == +0
+      std::memcpy(&k[c], &v, sizeof v);
+    }
+    id[i] = weld.emplace(k, static_cast<int>(weld.size())).first->second;
+  }
+  std::unordered_map<std::uint64_t, int> edges;
+  double volume6 = 0;
+  for (const auto& t : m.triangles) {
+    const int a = id[t[0]], b = id[t[1]], c = id[t[2]];
+    if (a == b || b == c || c == a) continue;
+    for (const auto& e : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+      ++edges[(std::uint64_t(std::uint32_t(e.first)) << 32) | std::uint32_t(e.second)];
+    const Eigen::Vector3d p0 = m.vertices[t[0]].cast<double>(), p1 = m.vertices[t[1]].cast<double>(),
+                          p2 = m.vertices[t[2]].cast<double>();
+    volume6 += p0.dot(p1.cross(p2));
+  }
+  if (edges.empty()) return false;
+  for (const auto& [key, count] : edges) {
+    if (count != 1) return false;
+    const std::uint64_t rev = (key << 32) | (key >> 32);
+    const auto it = edges.find(rev);
+    if (it == edges.end() || it->second != 1) return false;
+  }
+  return volume6 > 0;
+}
+
+}  // namespace
+
+void Renderer::set_scene(const Scene& scene) {
+  std::vector<PreparedMesh> meshes;
+  std::vector<std::size_t> bodies;
+  std::size_t tris = 0, max_vertices = 0;
+  if (scene.bodies.size() > 32767)
+    throw std::invalid_argument("viz::Renderer::set_scene: more than 32767 bodies");
+  for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+    bodies.push_back(meshes.size());
+    const SceneBody& body = scene.bodies[b];
+    for (std::size_t k = 0; k < body.meshes.size(); ++k) {
+      const SceneMesh& m = body.meshes[k];
+      const auto where = [&] {
+        return "viz::Renderer::set_scene: body " + std::to_string(b) + " '" + body.name + "' mesh " +
+               std::to_string(k) + ": ";
+      };
+      if (!m.normals.empty() && m.normals.size() != m.vertices.size())
+        throw std::invalid_argument(where() + std::to_string(m.normals.size()) + " normals for " +
+                                    std::to_string(m.vertices.size()) + " vertices (expected as many, or none)");
+      for (const auto& v : m.vertices)
+        if (!v.allFinite()) throw std::invalid_argument(where() + "a vertex is not finite");
+      const int nv = static_cast<int>(m.vertices.size());
+      for (const auto& t : m.triangles)
+        for (int i : t)
+          if (i < 0 || i >= nv)
+            throw std::invalid_argument(where() + "triangle index " + std::to_string(i) + " out of range [0, " +
+                                        std::to_string(nv) + ")");
+      PreparedMesh p;
+      p.body = static_cast<int>(b);
+      p.pos = m.vertices;
+      p.tri = m.triangles;
+      if (!m.normals.empty()) {
+        p.nrm.resize(m.normals.size());
+        for (std::size_t i = 0; i < m.normals.size(); ++i) {
+          const float len = m.normals[i].allFinite() ? m.normals[i].norm() : 0.0f;
+          p.nrm[i] = len > 0 ? Eigen::Vector3f(m.normals[i] / len) : Eigen::Vector3f::Zero();
+        }
+      }
+      for (int c = 0; c < 3; ++c)
+        p.albedo[c] = static_cast<float>(srgb_to_linear(std::clamp(double(m.rgba[c]), 0.0, 1.0)));
+      p.visible = !(m.rgba[3] <= 0.0f) && !m.triangles.empty() && !m.vertices.empty();
+      p.cull = m.faces == SceneMesh::Faces::Auto && closed_outward(m);
+      if (!m.vertices.empty()) {
+        Eigen::AlignedBox3f box;
+        for (const auto& v : m.vertices) box.extend(v);
+        p.centre = box.center();
+        for (const auto& v : m.vertices) p.radius = std::max(p.radius, (v - p.centre).norm());
+        p.radius *= 1.0001f;
+        p.radius += 1e-6f;
+      }
+      tris += m.triangles.size();
+      max_vertices = std::max(max_vertices, m.vertices.size());
+      meshes.push_back(std::move(p));
+    }
+  }
+  bodies.push_back(meshes.size());
+  meshes_ = std::move(meshes);
+  bodies_ = std::move(bodies);
+  triangle_count_ = tris;
+  scratch_.assign(max_vertices, Vertex{});
+}
+
+// ---------------------------------------------------------------------------------
+// Rendering.
+
+const cv::Mat& Renderer::render(const std::vector<Eigen::Isometry3d>& X_WB, const Camera& camera,
+                                const Overlays& overlays) {
+  validate(camera);
+  if (camera.width_px != width_ || camera.height_px != height_)
+    throw std::invalid_argument("viz::Renderer::render: the camera is " + std::to_string(camera.width_px) + "x" +
+                                std::to_string(camera.height_px) + " px but the renderer is " +
+                                std::to_string(width_) + "x" + std::to_string(height_) + " px");
+  if (X_WB.size() != body_count())
+    throw std::invalid_argument("viz::Renderer::render: " + std::to_string(X_WB.size()) + " body poses for " +
+                                std::to_string(body_count()) + " bodies");
+  stats_ = Stats{};
+  const Eigen::Isometry3d X_CW = camera_from_world(camera);
+  if (style_.shadows && style_.ground && camera.position.z() > 0)
+    build_shadow_map(X_WB);
+  else
+    shadow_valid_ = false;
+  draw_background_and_ground(camera, X_CW.inverse());
+  draw_meshes(X_WB, X_CW, focal_length_px(camera), camera.near_m);
+  draw_overlays(camera, overlays);
+  return image_;
+}
+
+void Renderer::build_shadow_map(const std::vector<Eigen::Isometry3d>& X_WB) {
+  shadow_valid_ = false;
+  Eigen::Vector3d l = style_.light_from_W;
+  if (!l.allFinite() || !(l.norm() > 0)) return;
+  l.normalize();
+  if (l.z() < 0.05) return;  // light at the horizon: shadows would be unbounded
+  const double kx = l.x() / l.z(), ky = l.y() / l.z();
+
+  // Extent: the bounding spheres' shadows (an ellipse within r / l_z of the centre's).
+  double x_min = 1e300, x_max = -1e300, y_min = 1e300, y_max = -1e300;
+  for (const auto& m : meshes_) {
+    if (!m.visible) continue;
+    const Eigen::Vector3d c = X_WB[m.body] * m.centre.cast<double>();
+    if (!c.allFinite()) continue;
+    const double qx = c.x() - c.z() * kx, qy = c.y() - c.z() * ky, r = m.radius / l.z();
+    x_min = std::min(x_min, qx - r);
+    x_max = std::max(x_max, qx + r);
+    y_min = std::min(y_min, qy - r);
+    y_max = std::max(y_max, qy + r);
+  }
+  if (x_min > x_max) return;
+  const double soft = std::max(0.0, style_.shadow_softness_m);
+  const double extent = std::max(x_max - x_min, y_max - y_min) + 6 * soft;
+  if (!(extent > 0) || extent > 1e4) return;
+  const int N = shadow_n_;
+  const double texel = extent / (N - 4);
+  shadow_texel_m_ = texel;
+  shadow_x0_ = 0.5 * (x_min + x_max) - 0.5 * N * texel;
+  shadow_y0_ = 0.5 * (y_min + y_max) - 0.5 * N * texel;
+  std::fill(shadow_.begin(), shadow_.end(), 0.0f);
+
+  // Each mesh's triangles projected along the light onto z = 0, in texel units
+  // (texel (i, j) centred at u = i + 0.5, v = j + 0.5). For closed meshes the triangles
+  // facing the light cover the whole shadow (their projection is counter-clockwise).
+  for (const auto& m : meshes_) {
+    if (!m.visible) continue;
+    const Eigen::Isometry3d& X = X_WB[m.body];
+    const Eigen::Matrix3d& R = X.linear();
+    const Eigen::Vector3d& p = X.translation();
+    float M[2][3], o[2];
+    for (int c = 0; c < 3; ++c) {
+      M[0][c] = static_cast<float>((R(0, c) - kx * R(2, c)) / texel);
+      M[1][c] = static_cast<float>((R(1, c) - ky * R(2, c)) / texel);
+    }
+    o[0] = static_cast<float>((p.x() - kx * p.z() - shadow_x0_) / texel);
+    o[1] = static_cast<float>((p.y() - ky * p.z() - shadow_y0_) / texel);
+    for (std::size_t i = 0; i < m.pos.size(); ++i) {
+      const Eigen::Vector3f& v = m.pos[i];
+      scratch_[i].sx = M[0][0] * v.x() + M[0][1] * v.y() + M[0][2] * v.z() + o[0];
+      scratch_[i].sy = M[1][0] * v.x() + M[1][1] * v.y() + M[1][2] * v.z() + o[1];
+    }
+    for (const auto& t : m.tri) {
+      const Vertex& a = scratch_[t[0]];
+      const Vertex& b = scratch_[t[1]];
+      const Vertex& c = scratch_[t[2]];
+      float area = (b.sx - a.sx) * (c.sy - a.sy) - (b.sy - a.sy) * (c.sx - a.sx);
+      if (m.cull && area <= 0) continue;
+      if (area == 0 || !std::isfinite(area)) continue;
+      const float sgn = area > 0 ? 1.0f : -1.0f;
+      const int i_lo = std::max(0, static_cast<int>(std::ceil(std::min({a.sx, b.sx, c.sx}) - 0.5f)));
+      const int i_hi = std::min(N - 1, static_cast<int>(std::floor(std::max({a.sx, b.sx, c.sx}) - 0.5f)));
+      const int j_lo = std::max(0, static_cast<int>(std::ceil(std::min({a.sy, b.sy, c.sy}) - 0.5f)));
+      const int j_hi = std::min(N - 1, static_cast<int>(std::floor(std::max({a.sy, b.sy, c.sy}) - 0.5f)));
+      for (int j = j_lo; j <= j_hi; ++j) {
+        const float y = j + 0.5f;
+        float* row = shadow_.data() + std::size_t(j) * N;
+        for (int i = i_lo; i <= i_hi; ++i) {
+          const float x = i + 0.5f;
+          const float e0 = sgn * ((b.sx - a.sx) * (y - a.sy) - (b.sy - a.sy) * (x - a.sx));
+          const float e1 = sgn * ((c.sx - b.sx) * (y - b.sy) - (c.sy - b.sy) * (x - b.sx));
+          const float e2 = sgn * ((a.sx - c.sx) * (y - c.sy) - (a.sy - c.sy) * (x - c.sx));
+          if (e0 >= 0 && e1 >= 0 && e2 >= 0) row[i] = 1.0f;
+        }
+      }
+    }
+  }
+
+  // Soften: two separable box blurs (close to a Gaussian of sigma ~ softness).
+  const int rb = std::max(1, static_cast<int>(std::lround(soft / texel / 1.2)));
+  const float inv = 1.0f / float(2 * rb + 1);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int j = 0; j < N; ++j) {  // rows -> tmp
+      const float* in = shadow_.data() + std::size_t(j) * N;
+      float* out = shadow_tmp_.data() + std::size_t(j) * N;
+      float sum = 0;
+      for (int i = 0; i < std::min(rb, N); ++i) sum += in[i];
+      for (int i = 0; i < N; ++i) {
+        if (i + rb < N) sum += in[i + rb];
+        if (i - rb - 1 >= 0) sum -= in[i - rb - 1];
+        out[i] = sum * inv;
+      }
+    }
+    for (int i = 0; i < N; ++i) {  // columns -> shadow
+      float sum = 0;
+      for (int j = 0; j < std::min(rb, N); ++j) sum += shadow_tmp_[std::size_t(j) * N + i];
+      for (int j = 0; j < N; ++j) {
+        if (j + rb < N) sum += shadow_tmp_[std::size_t(j + rb) * N + i];
+        if (j - rb - 1 >= 0) sum -= shadow_tmp_[std::size_t(j - rb - 1) * N + i];
+        shadow_[std::size_t(j) * N + i] = sum * inv;
+      }
+    }
+  }
+  shadow_valid_ = true;
+}
+
+void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Isometry3d& X_WC) {
+  // Per row, the view rays d(c) = d0 + c du (world axes, camera-z component 1) hit the
+  // ground (d_z < 0) on one contiguous run of columns, since d_z is affine in c. The sky
+  // is a table lookup by the ray's elevation; the ground is computed four pixels at a
+  // time (GCC/Clang vector extensions: SSE on x86-64, NEON on ARM) into row buffers,
+  // then packed to bytes.
+  const double f = focal_length_px(camera);
+  const double cx = 0.5 * width_, cy = 0.5 * height_;
+  const Eigen::Matrix3d R = X_WC.linear();
+  const Eigen::Vector3d C = X_WC.translation();
+  const Eigen::Vector3f du = (R.col(0) / f).cast<float>();
+  const Eigen::Vector3f dv = (R.col(1) / f).cast<float>();
+  const Eigen::Vector3f d00 = (R * Eigen::Vector3d((0.5 - cx) / f, (0.5 - cy) / f, 1.0)).cast<float>();
+  const bool ground = style_.ground && C.z() > 1e-6;
+  const int W = width_;
+
+  // Sky colours by the sine of the elevation in [-1, 1]: horizon -> zenith above,
+  // horizon -> floor colour below (seen only without the ground).
+  const Rgbf zenith = rgbf(style_.sky_zenith), horizon = rgbf(style_.sky_horizon), floor_c = rgbf(style_.floor_color);
+  for (int i = 0; i < kSkyN; ++i) {
+    const float e = -1.0f + 2.0f * float(i) / float(kSkyN - 1);
+    Rgbf col;
+    if (e >= 0) {
+      const float w = clamp01(e / 0.75f);
+      col = lerp(horizon, zenith, w * (2.0f - w));
+    } else {
+      col = lerp(horizon, floor_c, clamp01(-e / 0.35f));
+    }
+    put_bgr(sky_lut_.data() + 3 * i, col);
+  }
+
+  const Rgbf ground_c = rgbf(style_.ground_color), minor_c = rgbf(style_.grid_minor_color),
+             major_c = rgbf(style_.grid_major_color), ax_x = rgbf(style_.axis_x_color), ax_y = rgbf(style_.axis_y_color);
+  const float g1 = static_cast<float>(std::max(1e-6, style_.grid_minor_m));
+  const float g2 = static_cast<float>(std::max(1e-6, style_.grid_major_m));
+  const float fade0 = static_cast<float>(style_.ground_fade_start_m);
+  const float fade1 = static_cast<float>(std::max(style_.ground_fade_end_m, style_.ground_fade_start_m + 1e-3));
+  const float shadow_k = static_cast<float>(std::clamp(style_.shadow_strength, 0.0, 1.0));
+  const bool shadow = shadow_valid_;
+  const int N = shadow_n_;
+  const float sh_x0 = static_cast<float>(shadow_x0_), sh_y0 = static_cast<float>(shadow_y0_),
+              sh_inv = static_cast<float>(1.0 / shadow_texel_m_);
+
+  // Row buffers, each W + 4 floats (whole vectors past the run's end are harmless).
+  const std::size_t stride = std::size_t(W) + 4;
+  float* const ZB = row_.data();
+  float* const M1 = ZB + stride;  // minor grid line opacity
+  float* const M2 = M1 + stride;  // major
+  float* const AX = M2 + stride;  // x axis (y = 0)
+  float* const AY = AX + stride;  // y axis (x = 0)
+  float* const FD = AY + stride;  // fade to the horizon
+  float* const PX = FD + stride;  // hit point
+  float* const PY = PX + stride;
+  float* const DK = PY + stride;  // shadow: remaining light
+  float* const RR = M1;           // colour, reusing buffers no longer needed
+  float* const GG = M2;
+  float* const BB = AX;
+
+  // Constants as vectors.
+  const v4f lane{0.0f, 1.0f, 2.0f, 3.0f};
+  const v4f Cx = vset(static_cast<float>(C.x())), Cy = vset(static_cast<float>(C.y())),
+            Cz = vset(static_cast<float>(C.z()));
+  const v4f dux = vset(du.x()), duy = vset(du.y()), duz = vset(du.z());
+  const v4f dvx = vset(dv.x()), dvy = vset(dv.y()), dvz = vset(dv.z());
+  const v4f vg1 = vset(g1), vg2 = vset(g2), vig1 = vset(1.0f / g1), vig2 = vset(1.0f / g2);
+  const v4f grid_on = vset(style_.grid ? 1.0f : 0.0f), axes_on = vset(style_.axes ? 1.0f : 0.0f);
+  const v4f vfade0 = vset(fade0), vinv_fade = vset(1.0f / (fade1 - fade0));
+  const v4f one = vset(1.0f), tiny = vset(1e-9f);
+
+  constexpr float kEps = 1e-6f;
+  for (int r = 0; r < height_; ++r) {
+    unsigned char* out = image_.ptr<unsigned char>(r);
+    float* zrow = inv_depth_.ptr<float>(r);
+    std::int16_t* idrow = ids_.ptr<std::int16_t>(r);
+    std::fill(idrow, idrow + W, std::int16_t{-1});
+    const Eigen::Vector3f d0 = d00 + dv * float(r);
+    const float dx0 = d0.x(), dy0 = d0.y(), dz0 = d0.z();
+
+    // The ground run [g0, g1]: d_z(c) < -eps holds on a prefix, a suffix, all or none.
+    int g0 = 0, g1c = -1;
+    if (ground) {
+      const auto hits = [&](int c) { return dz0 + du.z() * float(c) < -kEps; };
+      const bool first = hits(0), last = hits(W - 1);
+      if (first && last) {
+        g0 = 0, g1c = W - 1;
+      } else if (first || last) {
+        int lo = 0, hi = W - 1;  // binary search for the switch, exact with the same predicate
+        while (hi - lo > 1) {
+          const int mid = (lo + hi) / 2;
+          (hits(mid) == first ? lo : hi) = mid;
+        }
+        if (first) g0 = 0, g1c = lo;
+        else g0 = hi, g1c = W - 1;
+      }
+    }
+
+    // Sky on [0, g0) and (g1c, W): the elevation sine, exact every 8 columns and linear
+    // in between (it varies by well under a table step over 8 pixels), then the table.
+    const auto sky = [&](int c_begin, int c_end) {
+      const float scale = 0.5f * float(kSkyN - 1);
+      const auto elev = [&](int c) {
+        const float dx = dx0 + du.x() * float(c), dy = dy0 + du.y() * float(c), dz = dz0 + du.z() * float(c);
+        return dz / std::sqrt(dx * dx + dy * dy + dz * dz);
+      };
+      for (int c = c_begin; c < c_end; c += 8) {
+        const int c_next = std::min(c + 8, c_end);
+        const float e0 = elev(c), e1 = elev(c_next - 1);
+        const float step = c_next - 1 > c ? (e1 - e0) / float(c_next - 1 - c) : 0.0f;
+        for (int k = c; k < c_next; ++k) {
+          const int i = static_cast<int>((e0 + step * float(k - c) + 1.0f) * scale + 0.5f);
+          const unsigned char* col = sky_lut_.data() + 3 * std::clamp(i, 0, kSkyN - 1);
+          unsigned char* p = out + 3 * k;
+          p[0] = col[0];
+          p[1] = col[1];
+          p[2] = col[2];
+          zrow[k] = 0.0f;
+        }
+      }
+    };
+    if (g1c < g0) {
+      sky(0, W);
+      continue;
+    }
+    sky(0, g0);
+    sky(g1c + 1, W);
+
+    // Ground pass 1: hit point P = C + s d (s = -C_z / d_z, the camera depth), 1/depth,
+    // the pixel's footprint in world metres along x and y (|dP/dc| + |dP/dr|), line
+    // opacities and the fade.
+    const v4f vdx0 = vset(dx0), vdy0 = vset(dy0), vdz0 = vset(dz0);
+    for (int c = g0; c <= g1c; c += 4) {
+      const v4f vc = vset(float(c)) + lane;
+      const v4f dx = vdx0 + dux * vc, dy = vdy0 + duy * vc, dz = vdz0 + duz * vc;
+      const v4f k = one / dz;
+      const v4f s = -Cz * k;
+      const v4f px = Cx + s * dx, py = Cy + s * dy;
+      const v4f cxz = duz * k, rvz = dvz * k;
+      const v4f fpx = s * (vabs(dux - dx * cxz) + vabs(dvx - dx * rvz)) + tiny;
+      const v4f fpy = s * (vabs(duy - dy * cxz) + vabs(dvy - dy * rvz)) + tiny;
+      const v4f ipx = one / fpx, ipy = one / fpy, ipmin = vmin(ipx, ipy);
+      // Minor lines 1 px wide, fading out between 8 and 3 px apart; major 1.5 px, 6 to 2 px.
+      const v4f a1 = grid_on * vclamp01((vg1 * ipmin - vset(3.0f)) * vset(0.2f));
+      const v4f a2 = grid_on * vclamp01((vg2 * ipmin - vset(2.0f)) * vset(0.25f));
+      const v4f m1 = a1 * vmax(vclamp01(one - vfrac_dist(px * vig1) * vg1 * ipx),
+                               vclamp01(one - vfrac_dist(py * vig1) * vg1 * ipy));
+      const v4f m2 = a2 * vmax(vclamp01(vset(1.25f) - vfrac_dist(px * vig2) * vg2 * ipx),
+                               vclamp01(vset(1.25f) - vfrac_dist(py * vig2) * vg2 * ipy));
+      const v4f t = vclamp01((s - vfade0) * vinv_fade);
+      vstore(ZB + c, -dz / Cz);
+      vstore(M1 + c, m1);
+      vstore(M2 + c, m2);
+      vstore(AY + c, axes_on * vclamp01(vset(1.75f) - vabs(px) * ipx));
+      vstore(AX + c, axes_on * vclamp01(vset(1.75f) - vabs(py) * ipy));
+      vstore(FD + c, t * t * (vset(3.0f) - vset(2.0f) * t));
+      vstore(PX + c, px);
+      vstore(PY + c, py);
+      vstore(DK + c, one);
+    }
+    std::copy(ZB + g0, ZB + g1c + 1, zrow + g0);
+    // Shadow: bilinear lookup in the blurred map, only where the hit is on it.
+    if (shadow) {
+      for (int c = g0; c <= g1c; ++c) {
+        const float u = (PX[c] - sh_x0) * sh_inv - 0.5f, v = (PY[c] - sh_y0) * sh_inv - 0.5f;
+        if (!(u > 0.0f && v > 0.0f && u < float(N - 1) && v < float(N - 1))) continue;
+        const int iu = static_cast<int>(u), iv = static_cast<int>(v);
+        const float fu = u - float(iu), fv = v - float(iv);
+        const float* t0 = shadow_.data() + std::size_t(iv) * N + iu;
+        const float* t1 = t0 + N;
+        const float sv = (t0[0] * (1 - fu) + t0[1] * fu) * (1 - fv) + (t1[0] * (1 - fu) + t1[1] * fu) * fv;
+        DK[c] = 1.0f - shadow_k * sv;
+      }
+    }
+    // Ground pass 2: colour (ground, shadow, minor, major lines, axes, fade), then bytes.
+    const auto blend = [](v4f a, float b, v4f t) { return a + (vset(b) - a) * t; };
+    for (int c = g0; c <= g1c; c += 4) {
+      const v4f dk = vload(DK + c), m1 = vload(M1 + c), m2 = vload(M2 + c), ay = vload(AY + c), ax = vload(AX + c),
+                fd = vload(FD + c);
+      v4f cr = vset(ground_c.r) * dk, cg = vset(ground_c.g) * dk, cb = vset(ground_c.b) * dk;
+      cr = blend(cr, minor_c.r, m1), cg = blend(cg, minor_c.g, m1), cb = blend(cb, minor_c.b, m1);
+      cr = blend(cr, major_c.r, m2), cg = blend(cg, major_c.g, m2), cb = blend(cb, major_c.b, m2);
+      cr = blend(cr, ax_y.r, ay), cg = blend(cg, ax_y.g, ay), cb = blend(cb, ax_y.b, ay);
+      cr = blend(cr, ax_x.r, ax), cg = blend(cg, ax_x.g, ax), cb = blend(cb, ax_x.b, ax);
+      cr = blend(cr, horizon.r, fd), cg = blend(cg, horizon.g, fd), cb = blend(cb, horizon.b, fd);
+      vstore(RR + c, cr + vset(0.5f));
+      vstore(GG + c, cg + vset(0.5f));
+      vstore(BB + c, cb + vset(0.5f));
+    }
+    for (int c = g0; c <= g1c; ++c) {
+      unsigned char* p = out + 3 * c;
+      p[0] = static_cast<unsigned char>(BB[c]);
+      p[1] = static_cast<unsigned char>(GG[c]);
+      p[2] = static_cast<unsigned char>(RR[c]);
+    }
+  }
+}
+
+void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eigen::Isometry3d& X_CW, double f_px,
+                           double near_m) {
+  const float f = static_cast<float>(f_px);
+  const float cx = 0.5f * width_, cy = 0.5f * height_;
+  const float W = float(width_), H = float(height_);
+  const float znear = static_cast<float>(near_m);
+
+  Target tgt{image_.ptr<unsigned char>(0), inv_depth_.ptr<float>(0), ids_.ptr<std::int16_t>(0), image_.step[0],
+             inv_depth_.step[0] / sizeof(float), ids_.step[0] / sizeof(std::int16_t), width_, height_};
+
+  // Lights in the camera frame.
+  Shader sh{};
+  Eigen::Vector3d l = style_.light_from_W;
+  l = (l.allFinite() && l.norm() > 0) ? l.normalized() : Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d Lc = X_CW.linear() * l;
+  const Eigen::Vector3d Uc = X_CW.linear() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d Hc = (Lc + Eigen::Vector3d(0, 0, -1)).norm() > 1e-9 ? (Lc + Eigen::Vector3d(0, 0, -1)).normalized()
+                                                                            : Eigen::Vector3d(0, 0, -1);
+  for (int i = 0; i < 3; ++i) {
+    sh.L[i] = static_cast<float>(Lc[i]);
+    sh.U[i] = static_cast<float>(Uc[i]);
+    sh.Hv[i] = static_cast<float>(Hc[i]);
+  }
+  sh.amb_mid = static_cast<float>(0.5 * (style_.ambient_up + style_.ambient_down));
+  sh.amb_half = static_cast<float>(0.5 * (style_.ambient_up - style_.ambient_down));
+  sh.kd = static_cast<float>(style_.diffuse);
+  sh.kf = static_cast<float>(style_.fill);
+  sh.ks = static_cast<float>(style_.specular);
+  sh.lut = linear_to_srgb_.data();
+
+  // Frustum side planes through the camera centre (inward unit normals), for spheres.
+  const Eigen::Vector3f side[4] = {Eigen::Vector3f(f, 0, cx).normalized(), Eigen::Vector3f(-f, 0, W - cx).normalized(),
+                                   Eigen::Vector3f(0, f, cy).normalized(), Eigen::Vector3f(0, -f, H - cy).normalized()};
+
+  for (std::size_t b = 0; b + 1 < bodies_.size(); ++b) {
+    const Eigen::Isometry3d X_CB = X_CW * X_WB[b];
+    if (!X_CB.matrix().allFinite()) continue;
+    const Eigen::Matrix3f R = X_CB.linear().cast<float>();
+    const Eigen::Vector3f p = X_CB.translation().cast<float>();
+    sh.id = static_cast<std::int16_t>(b);
+    for (std::size_t mi = bodies_[b]; mi < bodies_[b + 1]; ++mi) {
+      const PreparedMesh& m = meshes_[mi];
+      if (!m.visible) continue;
+      // Whole mesh outside the view?
+      const Eigen::Vector3f c = R * m.centre + p;
+      bool out = c.z() + m.radius < znear;
+      for (int k = 0; k < 4 && !out; ++k) out = side[k].dot(c) < -m.radius;
+      if (out) {
+        ++stats_.meshes_culled;
+        continue;
+      }
+      ++stats_.meshes_drawn;
+      const bool smooth = !m.nrm.empty();
+      for (int i = 0; i < 3; ++i) sh.albedo[i] = m.albedo[i];
+
+      // Vertices to the camera frame, projection and outcodes.
+      for (std::size_t i = 0; i < m.pos.size(); ++i) {
+        Vertex& v = scratch_[i];
+        const Eigen::Vector3f q = R * m.pos[i] + p;
+        v.x = q.x();
+        v.y = q.y();
+        v.z = q.z();
+        if (smooth) {
+          const Eigen::Vector3f n = R * m.nrm[i];
+          v.nx = n.x();
+          v.ny = n.y();
+          v.nz = n.z();
+        }
+        if (v.z < znear) {
+          v.code = kNear;
+          continue;
+        }
+        v.iz = 1.0f / v.z;
+        v.sx = cx + f * v.x * v.iz;
+        v.sy = cy + f * v.y * v.iz;
+        unsigned code = 0;
+        if (v.sx < 0) code |= kLeft;
+        if (v.sx > W) code |= kRight;
+        if (v.sy < 0) code |= kTop;
+        if (v.sy > H) code |= kBottom;
+        if (v.sx < -kGuardPx || v.sx > W + kGuardPx || v.sy < -kGuardPx || v.sy > H + kGuardPx) code |= kGuard;
+        v.code = code;
+      }
+
+      for (const auto& t : m.tri) {
+        ++stats_.triangles_in;
+        const Vertex& a = scratch_[t[0]];
+        const Vertex& bv = scratch_[t[1]];
+        const Vertex& vc = scratch_[t[2]];
+        if (a.code & bv.code & vc.code & kOutside) continue;
+        // Facing: the camera (origin) is on the front side of the triangle's plane.
+        const float e1x = bv.x - a.x, e1y = bv.y - a.y, e1z = bv.z - a.z;
+        const float e2x = vc.x - a.x, e2y = vc.y - a.y, e2z = vc.z - a.z;
+        float fnx = e1y * e2z - e1z * e2y, fny = e1z * e2x - e1x * e2z, fnz = e1x * e2y - e1y * e2x;
+        const float side_dot = fnx * a.x + fny * a.y + fnz * a.z;
+        const bool facing = side_dot < 0;
+        if (!facing && m.cull) {
+          ++stats_.triangles_backfacing;
+          continue;
+        }
+        if (side_dot == 0) continue;  // seen edge-on (or degenerate)
+        const float flip = facing ? 1.0f : -1.0f;
+        unsigned char flat[3] = {0, 0, 0};
+        if (!smooth) {
+          const float inv = flip / std::sqrt(fnx * fnx + fny * fny + fnz * fnz);
+          fnx *= inv;
+          fny *= inv;
+          fnz *= inv;
+          sh.shade(fnx, fny, fnz, flat);
+        }
+        ++stats_.triangles_rasterised;
+        if (!((a.code | bv.code | vc.code) & (kNear | kGuard))) {
+          if (smooth) {
+            const RVert r0{a.sx, a.sy, a.iz, flip * a.nx * a.iz, flip * a.ny * a.iz, flip * a.nz * a.iz};
+            const RVert r1{bv.sx, bv.sy, bv.iz, flip * bv.nx * bv.iz, flip * bv.ny * bv.iz, flip * bv.nz * bv.iz};
+            const RVert r2{vc.sx, vc.sy, vc.iz, flip * vc.nx * vc.iz, flip * vc.ny * vc.iz, flip * vc.nz * vc.iz};
+            raster_triangle<true>(r0, r1, r2, tgt, sh, flat);
+          } else {
+            const RVert r0{a.sx, a.sy, a.iz, 0, 0, 0}, r1{bv.sx, bv.sy, bv.iz, 0, 0, 0}, r2{vc.sx, vc.sy, vc.iz, 0, 0, 0};
+            raster_triangle<false>(r0, r1, r2, tgt, sh, flat);
+          }
+          continue;
+        }
+        // Clip in camera space: the near plane, then the guard band (needed only when a
+        // vertex lies beyond it), so every projected vertex is finite and bounded.
+        ++stats_.triangles_clipped;
+        CVert poly_a[12], poly_b[12];
+        const Vertex* tv[3] = {&a, &bv, &vc};
+        for (int i = 0; i < 3; ++i)
+          poly_a[i] = {tv[i]->x, tv[i]->y, tv[i]->z, smooth ? flip * tv[i]->nx : 0.0f, smooth ? flip * tv[i]->ny : 0.0f,
+                       smooth ? flip * tv[i]->nz : 0.0f};
+        int n = clip_polygon(poly_a, 3, poly_b, 0, 0, 1, -znear);
+        CVert* cur = poly_b;
+        CVert* nxt = poly_a;
+        const float G = kGuardPx;
+        const float planes[4][4] = {{f, 0, G + cx, 0}, {-f, 0, W + G - cx, 0}, {0, f, G + cy, 0}, {0, -f, H + G - cy, 0}};
+        for (int k = 0; k < 4 && n >= 3; ++k) {
+          bool any_out = false;
+          for (int i = 0; i < n; ++i)
+            any_out |= planes[k][0] * cur[i].x + planes[k][1] * cur[i].y + planes[k][2] * cur[i].z < 0;
+          if (!any_out) continue;
+          n = clip_polygon(cur, n, nxt, planes[k][0], planes[k][1], planes[k][2], 0);
+          std::swap(cur, nxt);
+        }
+        if (n < 3) continue;
+        RVert rv[12];
+        for (int i = 0; i < n; ++i) {
+          const float z = std::max(cur[i].z, znear);
+          const float iz = 1.0f / z;
+          rv[i] = {cx + f * cur[i].x * iz, cy + f * cur[i].y * iz, iz, cur[i].nx * iz, cur[i].ny * iz, cur[i].nz * iz};
+        }
+        for (int i = 1; i + 1 < n; ++i) {
+          if (smooth)
+            raster_triangle<true>(rv[0], rv[i], rv[i + 1], tgt, sh, flat);
+          else
+            raster_triangle<false>(rv[0], rv[i], rv[i + 1], tgt, sh, flat);
+        }
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------
+// Overlays.
+
+void Renderer::draw_overlays(const Camera& camera, const Overlays& ov) {
+  const Canvas cvs{image_.ptr<unsigned char>(0), image_.step[0], width_, height_};
+  const Eigen::Isometry3d X_CW = camera_from_world(camera);
+  const double f = focal_length_px(camera);
+  const Rgbf black{0, 0, 0};
+  const double w = std::max(0.5, ov.line_width_px);
+
+  // Force arrows: shaft and a filled head, with a dark halo for contrast.
+  for (const ForceArrow& fa : ov.forces) {
+    if (!fa.p_W.allFinite() || !fa.f_W_N.allFinite()) continue;
+    const Eigen::Vector3d tip_W = fa.p_W + ov.force_scale_m_per_N * fa.f_W_N;
+    Eigen::Vector2d a, b;
+    if (!project_segment(camera, X_CW, f, fa.p_W, tip_W, a, b)) continue;
+    const double len = (b - a).norm();
+    if (!(len >= 1.0)) continue;
+    const Eigen::Vector2d dir = (b - a) / len, nrm(-dir.y(), dir.x());
+    const double head = std::min(0.45 * len, std::max(10.0, 5.0 * w));
+    const Eigen::Vector2d base = b - head * dir;
+    const Rgbf col = rgbf(fa.color);
+    draw_segment(cvs, a, base, 0.5 * w + 1.0, black, 0.45f);
+    draw_triangle(cvs, b + dir, base - nrm * (0.5 * head + 1.0) - dir, base + nrm * (0.5 * head + 1.0) - dir, black,
+                  0.45f);
+    draw_segment(cvs, a, base + dir, 0.5 * w, col, 1.0f);
+    draw_triangle(cvs, b, base - nrm * (0.5 * head), base + nrm * (0.5 * head), col, 1.0f);
+    draw_ring(cvs, a, 0, 0.5 * w + 1.0, col, 1.0f, true);
+  }
+
+  // Centre of mass: ring on the ground at its projection, dashed drop line, circled cross.
+  if (ov.com_W && ov.com_W->allFinite()) {
+    const Eigen::Vector3d com = *ov.com_W;
+    const Eigen::Vector3d g(com.x(), com.y(), 0.0);
+    const Rgbf col = rgbf(ov.com_color);
+    constexpr int kSeg = 32;
+    constexpr double kGroundRing_m = 0.05;
+    for (int i = 0; i < kSeg; ++i) {
+      const double t0 = 2 * M_PI * i / kSeg, t1 = 2 * M_PI * (i + 1) / kSeg;
+      Eigen::Vector2d a, b;
+      if (project_segment(camera, X_CW, f, g + kGroundRing_m * Eigen::Vector3d(std::cos(t0), std::sin(t0), 0),
+                          g + kGroundRing_m * Eigen::Vector3d(std::cos(t1), std::sin(t1), 0), a, b))
+        draw_segment(cvs, a, b, 0.5 * w, col, 1.0f);
+    }
+    Eigen::Vector2d pc, pg;
+    if (project_segment(camera, X_CW, f, com, g, pc, pg)) {
+      draw_ring(cvs, pg, 0, 0.5 * w + 0.5, col, 1.0f, true);
+      const double len = (pg - pc).norm();
+      if (len > 1) {
+        const Eigen::Vector2d dir = (pg - pc) / len;
+        for (double s = 0; s < len; s += 10.0)
+          draw_segment(cvs, pc + dir * s, pc + dir * std::min(len, s + 6.0), 0.5 * std::max(1.0, 0.6 * w), col, 0.9f);
+      }
+    }
+    if (const auto p = project(camera, com)) {
+      const double r = 4.0 * w + 2.0, arm = r + 4.0 * w;
+      draw_ring(cvs, *p, r, 0.5 * w + 1.0, black, 0.5f);
+      draw_segment(cvs, *p - Eigen::Vector2d(arm, 0), *p + Eigen::Vector2d(arm, 0), 0.5 * w + 1.0, black, 0.5f);
+      draw_segment(cvs, *p - Eigen::Vector2d(0, arm), *p + Eigen::Vector2d(0, arm), 0.5 * w + 1.0, black, 0.5f);
+      draw_ring(cvs, *p, r, 0.5 * w, col, 1.0f);
+      draw_segment(cvs, *p - Eigen::Vector2d(arm, 0), *p + Eigen::Vector2d(arm, 0), 0.5 * w, col, 1.0f);
+      draw_segment(cvs, *p - Eigen::Vector2d(0, arm), *p + Eigen::Vector2d(0, arm), 0.5 * w, col, 1.0f);
+    }
+  }
+
+  // Text lines on a dark translucent panel in the top-left corner.
+  if (!ov.text_lines.empty()) {
+    const int margin = std::max(6, text_line_px_ / 2), pad = std::max(4, text_line_px_ / 3);
+    int text_w = 0;
+    for (const std::string& line : ov.text_lines) {
+      int w_line = 0;
+      for (char ch : line) {
+        const int i = (ch >= 32 && ch < 127) ? ch - 32 : '?' - 32;
+        w_line += glyphs_[i].advance;
+      }
+      text_w = std::max(text_w, w_line);
+    }
+    const int n_lines = static_cast<int>(ov.text_lines.size());
+    const int x_lo = margin, y_lo = margin;
+    const int x_hi = std::min(width_, margin + text_w + 2 * pad);
+    const int y_hi = std::min(height_, margin + n_lines * text_line_px_ + 2 * pad - (text_line_px_ - text_ascent_px_) / 2);
+    for (int y = y_lo; y < y_hi; ++y) {
+      unsigned char* row = image_.ptr<unsigned char>(y);
+      for (int x = 3 * x_lo; x < 3 * x_hi; ++x) row[x] = static_cast<unsigned char>(row[x] * 45 / 100);
+    }
+    const Rgbf white{255, 255, 255};
+    for (int li = 0; li < n_lines; ++li) {
+      int pen_x = margin + pad;
+      const int pen_y = margin + pad + text_ascent_px_ + li * text_line_px_;
+      for (char ch : ov.text_lines[li]) {
+        const int gi = (ch >= 32 && ch < 127) ? ch - 32 : '?' - 32;
+        const Glyph& g = glyphs_[gi];
+        for (int gy = 0; gy < g.coverage.rows; ++gy) {
+          const int y = pen_y + g.y0 + gy;
+          if (y < 0 || y >= height_) continue;
+          const unsigned char* mrow = g.coverage.ptr<unsigned char>(gy);
+          for (int gx = 0; gx < g.coverage.cols; ++gx) {
+            const int x = pen_x + g.x0 + gx;
+            if (x < 0 || x >= width_ || mrow[gx] == 0) continue;
+            cvs.blend(x, y, white, mrow[gx] / 255.0f);
+          }
+        }
+        pen_x += g.advance;
+        if (pen_x >= width_) break;
+      }
+    }
+  }
+}
+
+}  // namespace dmbd::viz
