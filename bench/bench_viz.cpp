@@ -28,7 +28,8 @@ struct DracoFrames {
   std::vector<Camera> cameras;
   dmbd::viz::Overlays overlays;
 
-  DracoFrames() : robot(dmbd::model::load_urdf(DMBD_DRACO_DIR "/draco.urdf")), scene(dmbd::viz::scene_from_robot(robot)) {
+  DracoFrames()
+      : robot(dmbd::model::load_urdf(DMBD_DRACO_DIR "/draco.urdf")), scene(dmbd::viz::scene_from_robot(robot)) {
     constexpr int kFrames = 60;
     const auto joint = [&](const char* name) { return robot.joint_index(name); };
     double lift = 0;
@@ -42,7 +43,8 @@ struct DracoFrames {
       q[joint("l_ankle")] = -0.4;
       q[joint("r_ankle")] = -0.4;
       auto X = dmbd::viz::link_frames(robot, q);
-      if (k == 0) lift = dmbd::viz::place_on_ground(scene, X);
+      if (k == 0)
+        lift = dmbd::viz::place_on_ground(scene, X);
       else
         for (auto& Xi : X) Xi.translation().z() += lift;
       poses.push_back(std::move(X));
@@ -65,7 +67,8 @@ const DracoFrames& draco() {
 }
 
 void report(benchmark::State& state, const Renderer& renderer) {
-  state.counters["frames_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["frames_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["triangles"] = static_cast<double>(renderer.triangle_count());
   state.counters["tri_rasterised"] = static_cast<double>(renderer.stats().triangles_rasterised);
 }

@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -271,6 +272,57 @@ TEST(Rasteriser, CubeSilhouetteAreaMatchesProjectedHull) {
   EXPECT_EQ(renderer.stats().triangles_backfacing, 2u * hidden_faces);
 }
 
+TEST(Rasteriser, TessellatedQuadHasNoCracks) {
+  // The same square as 2 triangles and as 242 irregular ones (interior vertices jittered
+  // in the plane, diagonals alternating): every pixel at least one pixel inside the
+  // square's image is covered in both (exact edge functions and the tie rule leave no
+  // gaps along shared edges), and the areas agree to within the boundary pixels whose
+  // centres lie within the 1/256 px snapping of the split boundary (~0.1%).
+  const Camera cam = camera({1.3, -0.6, 1.4}, {0, 0, 0.6});
+  const Eigen::Isometry3d X = pose({0, 0, 0.6}, rot(0.9, {1, 0.4, 0.2}));
+  constexpr int n = 12;  // vertices per side
+  SceneMesh fine;
+  std::uint32_t seed = 12345;
+  const auto jitter = [&] {
+    seed = seed * 1664525u + 1013904223u;
+    return (double(seed >> 8) / double(1 << 24) - 0.5) * 0.5;  // [-0.25, 0.25) of a cell
+  };
+  const double side = 0.6, cell = side / (n - 1);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const bool inner = i > 0 && j > 0 && i < n - 1 && j < n - 1;
+      const double x = -0.5 * side + i * cell + (inner ? jitter() * cell : 0.0);
+      const double y = -0.5 * side + j * cell + (inner ? jitter() * cell : 0.0);
+      fine.vertices.emplace_back(static_cast<float>(x), static_cast<float>(y), 0.0f);
+    }
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = j * n + i, b = a + 1, c = a + n + 1, d = a + n;
+      if ((i + j) % 2 == 0) {
+        fine.triangles.push_back({a, b, c});
+        fine.triangles.push_back({a, c, d});
+      } else {
+        fine.triangles.push_back({a, b, d});
+        fine.triangles.push_back({b, c, d});
+      }
+    }
+  Renderer renderer(kW, kH);
+  renderer.style().ground = false;
+  renderer.set_scene(one_body(quad(side)));
+  renderer.render({X}, cam);
+  const cv::Mat coarse_mask = renderer.body_ids() == 0;
+  renderer.set_scene(one_body(fine));
+  renderer.render({X}, cam);
+  const cv::Mat fine_mask = renderer.body_ids() == 0;
+  cv::Mat interior;
+  cv::erode(coarse_mask, interior, cv::Mat::ones(3, 3, CV_8U));
+  const int n_interior = cv::countNonZero(interior);
+  ASSERT_GT(n_interior, 20000);
+  EXPECT_EQ(cv::countNonZero(interior & fine_mask), n_interior);
+  const int coarse = cv::countNonZero(coarse_mask), fine_n = cv::countNonZero(fine_mask);
+  EXPECT_NEAR(fine_n, coarse, 0.001 * coarse);
+}
+
 TEST(Rasteriser, CullingOnlyWhereSafeDoesNotChangeTheImage) {
   const Camera cam = camera({2, -1.5, 1.4}, {0, 0, 0.5});
   SceneMesh closed = box_mesh({0.5, 0.3, 0.4});
@@ -292,7 +344,7 @@ TEST(Rasteriser, CullingOnlyWhereSafeDoesNotChangeTheImage) {
   Renderer q(kW, kH);
   q.set_scene(one_body(quad(0.4)));
   EXPECT_EQ(q.closed_mesh_count(), 0u);
-  q.render({pose({0, 0, 0.5}, rot(M_PI / 2, {0, 1, 0}))}, camera({2, 0, 0.5}, {0, 0, 0.5}));   // normal +x: front
+  q.render({pose({0, 0, 0.5}, rot(M_PI / 2, {0, 1, 0}))}, camera({2, 0, 0.5}, {0, 0, 0.5}));  // normal +x: front
   const int front = count_ids(q.body_ids(), 0);
   q.render({pose({0, 0, 0.5}, rot(-M_PI / 2, {0, 1, 0}))}, camera({2, 0, 0.5}, {0, 0, 0.5}));  // normal -x: back
   const int back = count_ids(q.body_ids(), 0);
@@ -354,8 +406,9 @@ TEST(Rasteriser, TriangleCrossingTheNearPlaneIsClipped) {
 TEST(Shading, LambertWithAmbient) {
   // A grey quad facing the camera, lit at angle theta from its normal: the linear
   // radiance is albedo (ambient + diffuse cos(theta)), clamped at 0 past 90 deg. The
-  // output is sRGB bytes; converting back with the standard sRGB curve costs at most
-  // half an 8-bit step (~0.4% in linear at these levels) plus the 12-bit table: 0.006.
+  // output is sRGB bytes; converting back with the standard sRGB curve is exact to half
+  // an 8-bit step (up to 0.003 in linear at these levels), and the 12-bit linear table
+  // before it can shift the rounding by one more step: 0.006.
   const Camera cam = camera({2, 0, 1}, {0, 0, 1});
   Renderer renderer(kW, kH);
   RenderStyle& st = renderer.style();
@@ -391,8 +444,8 @@ TEST(Shading, FaceTowardsTheLightIsBrighterThanAGrazingFace) {
   renderer.set_scene(one_body(coloured(box_mesh({0.4, 0.4, 0.4}), 0.6f, 0.6f, 0.6f)));
   const Eigen::Isometry3d X = pose({0, 0, 0.5});
   const cv::Mat& img = renderer.render({X}, cam);
-  const cv::Vec3b lit = pixel_at(img, *project(cam, X * Eigen::Vector3d(0.2, 0, 0)));     // +x face centre
-  const cv::Vec3b graze = pixel_at(img, *project(cam, X * Eigen::Vector3d(0, 0.2, 0)));   // +y face centre
+  const cv::Vec3b lit = pixel_at(img, *project(cam, X * Eigen::Vector3d(0.2, 0, 0)));    // +x face centre
+  const cv::Vec3b graze = pixel_at(img, *project(cam, X * Eigen::Vector3d(0, 0.2, 0)));  // +y face centre
   EXPECT_GT(int(lit[1]), int(graze[1]) + 50) << "lit " << lit << " grazing " << graze;
 }
 
@@ -461,15 +514,18 @@ TEST(Ground, GridLinesWhereProjected) {
   };
   const int ground = st.ground_color.g;
   // Between lines: the plain ground colour (no shadow, well before the fade at 6 m).
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.45, 0.25, 0), Eigen::Vector3d(1.05, 0.75, 0), Eigen::Vector3d(0.65, 1.15, 0)})
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.45, 0.25, 0), Eigen::Vector3d(1.05, 0.75, 0), Eigen::Vector3d(0.65, 1.15, 0)})
     EXPECT_NEAR(pixel_at(img, *project(cam, p))[1], ground, 2) << p.transpose();
   // Minor lines (every 0.1 m): at least half covered, so at least half as dark as the line colour.
   const int minor_drop = (ground - st.grid_minor_color.g) / 2;
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.3, 0.25, 0), Eigen::Vector3d(0.45, 0.4, 0), Eigen::Vector3d(0.7, 0.85, 0)})
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.3, 0.25, 0), Eigen::Vector3d(0.45, 0.4, 0), Eigen::Vector3d(0.7, 0.85, 0)})
     EXPECT_LE(darkest(p), ground - minor_drop) << p.transpose();
   // Major lines (every 1 m): darker still.
   const int major_drop = (ground - st.grid_major_color.g) * 3 / 4;
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(1.0, 0.25, 0), Eigen::Vector3d(1.0, 0.75, 0), Eigen::Vector3d(0.45, 1.0, 0)})
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(1.0, 0.25, 0), Eigen::Vector3d(1.0, 0.75, 0), Eigen::Vector3d(0.45, 1.0, 0)})
     EXPECT_LE(darkest(p), ground - major_drop) << p.transpose();
   // The world x axis (y = 0) is red.
   const Eigen::Vector2d ax = *project(cam, Eigen::Vector3d(0.55, 0, 0));
@@ -539,7 +595,8 @@ model::RobotDescription* Draco::robot_ = nullptr;
 Scene* Draco::scene_ = nullptr;
 
 void save_sample(const cv::Mat& img, const std::string& name) {
-  if (const char* dir = std::getenv("DMBD_RENDER_SAMPLE_DIR")) write_file_atomic(std::string(dir) + "/" + name, encode_png(img));
+  if (const char* dir = std::getenv("DMBD_RENDER_SAMPLE_DIR"))
+    write_file_atomic(std::string(dir) + "/" + name, encode_png(img));
 }
 
 TEST_F(Draco, SceneFromRobot) {
@@ -584,7 +641,7 @@ TEST_F(Draco, RendersTheRobotAndTheBentKnee) {
   // Many robot pixels, all well inside the frame, the robot filling most of its height.
   const cv::Mat robot = ids >= 0;
   const int n_robot = cv::countNonZero(robot);
-  EXPECT_GT(n_robot, 0.04 * 1280 * 720);
+  EXPECT_GT(n_robot, 0.03 * 1280 * 720);  // DRACO is slim: ~4.5% of this frame
   const cv::Rect bbox = cv::boundingRect(robot);
   EXPECT_GT(bbox.x, 0.05 * 1280);
   EXPECT_GT(bbox.y, 0.05 * 720);
@@ -684,7 +741,8 @@ TEST(Overlays, DrawnWhereProjected) {
   EXPECT_GT(cv::countNonZero(grey > 200), 30);
   // An arrow whose tail is behind the camera is clipped, not garbage.
   Overlays behind;
-  behind.forces.push_back({cam.position - 2.0 * (cam.look_at - cam.position), Eigen::Vector3d(0, 0, 1000), {0, 60, 255}});
+  behind.forces.push_back(
+      {cam.position - 2.0 * (cam.look_at - cam.position), Eigen::Vector3d(0, 0, 1000), {0, 60, 255}});
   EXPECT_NO_THROW(renderer.render({}, cam, behind));
 }
 

@@ -36,6 +36,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace dmbd::viz {
 
 // ---------------------------------------------------------------------------------
@@ -43,12 +47,12 @@ namespace dmbd::viz {
 
 struct Renderer::PreparedMesh {
   int body = 0;
-  std::vector<Eigen::Vector3f> pos;            // body frame
-  std::vector<Eigen::Vector3f> nrm;            // unit, or empty (flat)
+  std::vector<Eigen::Vector3f> pos;  // body frame
+  std::vector<Eigen::Vector3f> nrm;  // unit, or empty (flat)
   std::vector<std::array<int, 3>> tri;
-  float albedo[3] = {0, 0, 0};                 // linear RGB
-  bool cull = false;                           // closed and outward: back faces are never seen
-  bool visible = true;                         // alpha > 0
+  float albedo[3] = {0, 0, 0};                       // linear RGB
+  bool cull = false;                                 // closed and outward: back faces are never seen
+  bool visible = true;                               // alpha > 0
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();  // bounding sphere, body frame
   float radius = 0;
 };
@@ -101,17 +105,35 @@ v4f vload(const float* p) {
   return v;
 }
 void vstore(float* p, v4f v) { std::memcpy(p, &v, sizeof v); }
+void vstore_int(std::int32_t* p, v4f v) {  // truncated
+  const v4i i = __builtin_convertvector(v, v4i);
+  std::memcpy(p, &i, sizeof i);
+}
+#if defined(__SSE2__)
+// x86-64: single instructions where the generic selects below would take four.
+v4f vmin(v4f a, v4f b) { return _mm_min_ps(a, b); }
+v4f vmax(v4f a, v4f b) { return _mm_max_ps(a, b); }
+v4f vabs(v4f a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
+v4f vclamp01(v4f a) { return vmin(vmax(a, vset(0.0f)), vset(1.0f)); }
+v4f vsqrt(v4f a) { return _mm_sqrt_ps(a); }
+// Distance to the nearest integer (|x| clamped to 1e6 first; rounds to nearest).
+v4f vfrac_dist(v4f x) {
+  x = vmin(vmax(x, vset(-1e6f)), vset(1e6f));
+  return vabs(x - _mm_cvtepi32_ps(_mm_cvtps_epi32(x)));
+}
+#else
 v4f vmin(v4f a, v4f b) { return a < b ? a : b; }
 v4f vmax(v4f a, v4f b) { return a > b ? a : b; }
 v4f vabs(v4f a) { return a < vset(0.0f) ? -a : a; }
 v4f vclamp01(v4f a) { return vmin(vmax(a, vset(0.0f)), vset(1.0f)); }
-// Distance to the nearest integer (|x| clamped to 1e6 first).
+v4f vsqrt(v4f a) { return v4f{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])}; }
 v4f vfrac_dist(v4f x) {
   x = vmin(vmax(x, vset(-1e6f)), vset(1e6f));
   const v4f h = x >= vset(0.0f) ? vset(0.5f) : vset(-0.5f);
   const v4i i = __builtin_convertvector(x + h, v4i);
   return vabs(x - __builtin_convertvector(i, v4f));
 }
+#endif
 
 struct Rgbf {
   float r, g, b;
@@ -213,7 +235,7 @@ void raster_triangle(const RVert& va, const RVert& vb, const RVert& vc, const Ta
     ec[i] = X[i] * Y[j] - X[j] * Y[i];
     const bool include_ties = ea[i] > 0 || (ea[i] == 0 && eb[i] < 0);
     ec[i] += ea[i] * kHalfSub + (include_ties ? 0 : -1);  // pixel centre offset in x, tie bias
-    A[i] = ea[i] * kSub;                                    // per pixel step in x
+    A[i] = ea[i] * kSub;                                  // per pixel step in x
     invA[i] = A[i] != 0 ? 1.0 / double(A[i]) : 0.0;
   }
 
@@ -255,8 +277,10 @@ void raster_triangle(const RVert& va, const RVert& vb, const RVert& vc, const Ta
     }
     if (empty || lo > hi + 2.0) continue;
     // The double estimate is within a fraction of a pixel; widen by one and trim exactly.
-    std::int64_t x_a = std::max<std::int64_t>(c_lo, static_cast<std::int64_t>(std::ceil(std::min(lo, dc_hi + 1.0))) - 1);
-    std::int64_t x_b = std::min<std::int64_t>(c_hi, static_cast<std::int64_t>(std::floor(std::max(hi, dc_lo - 1.0))) + 1);
+    std::int64_t x_a =
+        std::max<std::int64_t>(c_lo, static_cast<std::int64_t>(std::ceil(std::min(lo, dc_hi + 1.0))) - 1);
+    std::int64_t x_b =
+        std::min<std::int64_t>(c_hi, static_cast<std::int64_t>(std::floor(std::max(hi, dc_lo - 1.0))) + 1);
     const auto inside = [&](std::int64_t x) {
       return E[0] + A[0] * x >= 0 && E[1] + A[1] * x >= 0 && E[2] + A[2] * x >= 0;
     };
@@ -400,7 +424,7 @@ void draw_segment(const Canvas& cn, Eigen::Vector2d p0, Eigen::Vector2d p1, doub
 // Ring of radius r_px and half-width half_px (fill = true: a disc of radius r_px).
 void draw_ring(const Canvas& cn, const Eigen::Vector2d& c, double r_px, double half_px, const Rgbf& col, float alpha,
                bool fill = false) {
-  if (!finite2(c)) return;
+  if (!finite2(c) || std::fabs(c.x()) > 1e6 || std::fabs(c.y()) > 1e6 || !(r_px < 1e6)) return;
   const double R = r_px + half_px + 1.0;
   const int y_lo = std::max(0, static_cast<int>(std::floor(c.y() - R)));
   const int y_hi = std::min(cn.H - 1, static_cast<int>(std::ceil(c.y() + R)));
@@ -431,9 +455,11 @@ void draw_triangle(const Canvas& cn, const Eigen::Vector2d& p0, const Eigen::Vec
   }
   const double lim = 4.0 * (cn.W + cn.H);
   const int y_lo = std::max(0, static_cast<int>(std::floor(std::max(-lim, std::min({p0.y(), p1.y(), p2.y()}) - 1))));
-  const int y_hi = std::min(cn.H - 1, static_cast<int>(std::ceil(std::min(lim, std::max({p0.y(), p1.y(), p2.y()}) + 1))));
+  const int y_hi =
+      std::min(cn.H - 1, static_cast<int>(std::ceil(std::min(lim, std::max({p0.y(), p1.y(), p2.y()}) + 1))));
   const int x_lo = std::max(0, static_cast<int>(std::floor(std::max(-lim, std::min({p0.x(), p1.x(), p2.x()}) - 1))));
-  const int x_hi = std::min(cn.W - 1, static_cast<int>(std::ceil(std::min(lim, std::max({p0.x(), p1.x(), p2.x()}) + 1))));
+  const int x_hi =
+      std::min(cn.W - 1, static_cast<int>(std::ceil(std::min(lim, std::max({p0.x(), p1.x(), p2.x()}) + 1))));
   for (int y = y_lo; y <= y_hi; ++y)
     for (int x = x_lo; x <= x_hi; ++x) {
       const Eigen::Vector2d p(x + 0.5, y + 0.5);
@@ -479,9 +505,7 @@ void validate(const Camera& c) {
     throw std::invalid_argument("viz::Camera: up is zero or parallel to the view direction");
 }
 
-double focal_length_px(const Camera& c) {
-  return 0.5 * c.height_px / std::tan(0.5 * c.fov_y_deg * M_PI / 180.0);
-}
+double focal_length_px(const Camera& c) { return 0.5 * c.height_px / std::tan(0.5 * c.fov_y_deg * M_PI / 180.0); }
 
 Eigen::Isometry3d camera_from_world(const Camera& c) {
   const Eigen::Vector3d z = (c.look_at - c.position).normalized();
@@ -542,10 +566,8 @@ double place_on_ground(const Scene& scene, std::vector<Eigen::Isometry3d>& X_WB)
 // Renderer: construction and scene preparation.
 
 Renderer::~Renderer() = default;
-Renderer::Renderer(const Renderer&) = default;
-Renderer::Renderer(Renderer&&) noexcept = default;
-Renderer& Renderer::operator=(const Renderer&) = default;
-Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+Renderer::Renderer(Renderer&&) = default;
+Renderer& Renderer::operator=(Renderer&&) = default;
 
 Renderer::Renderer(int width_px, int height_px) : width_(width_px), height_(height_px) {
   if (width_px < 16 || height_px < 16 || width_px > 16384 || height_px > 16384)
@@ -560,14 +582,12 @@ Renderer::Renderer(int width_px, int height_px) : width_(width_px), height_(heig
   shadow_n_ = kShadowN;
   sky_lut_.assign(3 * kSkyN, 0);
   row_.assign(std::size_t(kRowArrays) * (std::size_t(width_) + 4), 0.0f);
+  row_int_.assign(3 * (std::size_t(width_) + 4), 0);
   shadow_.assign(std::size_t(kShadowN) * kShadowN, 0.0f);
   shadow_tmp_.assign(std::size_t(kShadowN) * kShadowN, 0.0f);
-  srgb_to_linear_.resize(256);
-  for (int i = 0; i < 256; ++i) srgb_to_linear_[i] = static_cast<float>(srgb_to_linear(i / 255.0));
   linear_to_srgb_.resize(kLutN);
   for (int i = 0; i < kLutN; ++i)
-    linear_to_srgb_[i] =
-        static_cast<unsigned char>(std::lround(255.0 * linear_to_srgb(double(i) / double(kLutN - 1))));
+    linear_to_srgb_[i] = static_cast<unsigned char>(std::lround(255.0 * linear_to_srgb(double(i) / double(kLutN - 1))));
 
   // Glyph cache for the text overlay: each printable ASCII character rendered once by
   // OpenCV's Hershey font into an anti-aliased mask, then blended per frame by hand
@@ -651,8 +671,7 @@ void Renderer::set_scene(const Scene& scene) {
   std::vector<PreparedMesh> meshes;
   std::vector<std::size_t> bodies;
   std::size_t tris = 0, max_vertices = 0;
-  if (scene.bodies.size() > 32767)
-    throw std::invalid_argument("viz::Renderer::set_scene: more than 32767 bodies");
+  if (scene.bodies.size() > 32767) throw std::invalid_argument("viz::Renderer::set_scene: more than 32767 bodies");
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     bodies.push_back(meshes.size());
     const SceneBody& body = scene.bodies[b];
@@ -716,8 +735,8 @@ const cv::Mat& Renderer::render(const std::vector<Eigen::Isometry3d>& X_WB, cons
   validate(camera);
   if (camera.width_px != width_ || camera.height_px != height_)
     throw std::invalid_argument("viz::Renderer::render: the camera is " + std::to_string(camera.width_px) + "x" +
-                                std::to_string(camera.height_px) + " px but the renderer is " +
-                                std::to_string(width_) + "x" + std::to_string(height_) + " px");
+                                std::to_string(camera.height_px) + " px but the renderer is " + std::to_string(width_) +
+                                "x" + std::to_string(height_) + " px");
   if (X_WB.size() != body_count())
     throw std::invalid_argument("viz::Renderer::render: " + std::to_string(X_WB.size()) + " body poses for " +
                                 std::to_string(body_count()) + " bodies");
@@ -870,7 +889,8 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
   }
 
   const Rgbf ground_c = rgbf(style_.ground_color), minor_c = rgbf(style_.grid_minor_color),
-             major_c = rgbf(style_.grid_major_color), ax_x = rgbf(style_.axis_x_color), ax_y = rgbf(style_.axis_y_color);
+             major_c = rgbf(style_.grid_major_color), ax_x = rgbf(style_.axis_x_color),
+             ax_y = rgbf(style_.axis_y_color);
   const float g1 = static_cast<float>(std::max(1e-6, style_.grid_minor_m));
   const float g2 = static_cast<float>(std::max(1e-6, style_.grid_major_m));
   const float fade0 = static_cast<float>(style_.ground_fade_start_m);
@@ -891,10 +911,10 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
   float* const FD = AY + stride;  // fade to the horizon
   float* const PX = FD + stride;  // hit point
   float* const PY = PX + stride;
-  float* const DK = PY + stride;  // shadow: remaining light
-  float* const RR = M1;           // colour, reusing buffers no longer needed
-  float* const GG = M2;
-  float* const BB = AX;
+  float* const DK = PY + stride;             // shadow: remaining light
+  std::int32_t* const RI = row_int_.data();  // colour bytes, as ints
+  std::int32_t* const GI = RI + stride;
+  std::int32_t* const BI = GI + stride;
 
   // Constants as vectors.
   const v4f lane{0.0f, 1.0f, 2.0f, 3.0f};
@@ -916,46 +936,43 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
     const Eigen::Vector3f d0 = d00 + dv * float(r);
     const float dx0 = d0.x(), dy0 = d0.y(), dz0 = d0.z();
 
-    // The ground run [g0, g1]: d_z(c) < -eps holds on a prefix, a suffix, all or none.
+    // The ground run [g0, g1c]: d_z(c) < -eps holds on a prefix, a suffix, all or none.
     int g0 = 0, g1c = -1;
     if (ground) {
       const auto hits = [&](int c) { return dz0 + du.z() * float(c) < -kEps; };
       const bool first = hits(0), last = hits(W - 1);
       if (first && last) {
-        g0 = 0, g1c = W - 1;
+        g1c = W - 1;
       } else if (first || last) {
         int lo = 0, hi = W - 1;  // binary search for the switch, exact with the same predicate
         while (hi - lo > 1) {
           const int mid = (lo + hi) / 2;
           (hits(mid) == first ? lo : hi) = mid;
         }
-        if (first) g0 = 0, g1c = lo;
-        else g0 = hi, g1c = W - 1;
+        g0 = first ? 0 : hi;
+        g1c = first ? lo : W - 1;
       }
     }
 
-    // Sky on [0, g0) and (g1c, W): the elevation sine, exact every 8 columns and linear
-    // in between (it varies by well under a table step over 8 pixels), then the table.
+    // Sky on [0, g0) and (g1c, W): the table entry of the elevation sine of each ray,
+    // four columns at a time.
     const auto sky = [&](int c_begin, int c_end) {
-      const float scale = 0.5f * float(kSkyN - 1);
-      const auto elev = [&](int c) {
-        const float dx = dx0 + du.x() * float(c), dy = dy0 + du.y() * float(c), dz = dz0 + du.z() * float(c);
-        return dz / std::sqrt(dx * dx + dy * dy + dz * dz);
-      };
-      for (int c = c_begin; c < c_end; c += 8) {
-        const int c_next = std::min(c + 8, c_end);
-        const float e0 = elev(c), e1 = elev(c_next - 1);
-        const float step = c_next - 1 > c ? (e1 - e0) / float(c_next - 1 - c) : 0.0f;
-        for (int k = c; k < c_next; ++k) {
-          const int i = static_cast<int>((e0 + step * float(k - c) + 1.0f) * scale + 0.5f);
-          const unsigned char* col = sky_lut_.data() + 3 * std::clamp(i, 0, kSkyN - 1);
-          unsigned char* p = out + 3 * k;
-          p[0] = col[0];
-          p[1] = col[1];
-          p[2] = col[2];
-          zrow[k] = 0.0f;
-        }
+      const v4f scale = vset(0.5f * float(kSkyN - 1)), vdx = vset(dx0), vdy = vset(dy0), vdz = vset(dz0);
+      const v4f hi = vset(float(kSkyN - 1));
+      for (int c = c_begin; c < c_end; c += 4) {
+        const v4f vc = vset(float(c)) + lane;
+        const v4f dx = vdx + dux * vc, dy = vdy + duy * vc, dz = vdz + duz * vc;
+        const v4f e = dz / vsqrt(dx * dx + dy * dy + dz * dz);
+        vstore(ZB + c, vmin(vmax((e + one) * scale + vset(0.5f), vset(0.0f)), hi));
       }
+      for (int c = c_begin; c < c_end; ++c) {
+        const unsigned char* col = sky_lut_.data() + 3 * static_cast<int>(ZB[c]);
+        unsigned char* p = out + 3 * c;
+        p[0] = col[0];
+        p[1] = col[1];
+        p[2] = col[2];
+      }
+      std::fill(zrow + c_begin, zrow + c_end, 0.0f);
     };
     if (g1c < g0) {
       sky(0, W);
@@ -1021,15 +1038,15 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
       cr = blend(cr, ax_y.r, ay), cg = blend(cg, ax_y.g, ay), cb = blend(cb, ax_y.b, ay);
       cr = blend(cr, ax_x.r, ax), cg = blend(cg, ax_x.g, ax), cb = blend(cb, ax_x.b, ax);
       cr = blend(cr, horizon.r, fd), cg = blend(cg, horizon.g, fd), cb = blend(cb, horizon.b, fd);
-      vstore(RR + c, cr + vset(0.5f));
-      vstore(GG + c, cg + vset(0.5f));
-      vstore(BB + c, cb + vset(0.5f));
+      vstore_int(RI + c, cr + vset(0.5f));
+      vstore_int(GI + c, cg + vset(0.5f));
+      vstore_int(BI + c, cb + vset(0.5f));
     }
     for (int c = g0; c <= g1c; ++c) {
       unsigned char* p = out + 3 * c;
-      p[0] = static_cast<unsigned char>(BB[c]);
-      p[1] = static_cast<unsigned char>(GG[c]);
-      p[2] = static_cast<unsigned char>(RR[c]);
+      p[0] = static_cast<unsigned char>(BI[c]);
+      p[1] = static_cast<unsigned char>(GI[c]);
+      p[2] = static_cast<unsigned char>(RI[c]);
     }
   }
 }
@@ -1041,8 +1058,14 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
   const float W = float(width_), H = float(height_);
   const float znear = static_cast<float>(near_m);
 
-  Target tgt{image_.ptr<unsigned char>(0), inv_depth_.ptr<float>(0), ids_.ptr<std::int16_t>(0), image_.step[0],
-             inv_depth_.step[0] / sizeof(float), ids_.step[0] / sizeof(std::int16_t), width_, height_};
+  Target tgt{image_.ptr<unsigned char>(0),
+             inv_depth_.ptr<float>(0),
+             ids_.ptr<std::int16_t>(0),
+             image_.step[0],
+             inv_depth_.step[0] / sizeof(float),
+             ids_.step[0] / sizeof(std::int16_t),
+             width_,
+             height_};
 
   // Lights in the camera frame.
   Shader sh{};
@@ -1050,8 +1073,9 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
   l = (l.allFinite() && l.norm() > 0) ? l.normalized() : Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d Lc = X_CW.linear() * l;
   const Eigen::Vector3d Uc = X_CW.linear() * Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d Hc = (Lc + Eigen::Vector3d(0, 0, -1)).norm() > 1e-9 ? (Lc + Eigen::Vector3d(0, 0, -1)).normalized()
-                                                                            : Eigen::Vector3d(0, 0, -1);
+  const Eigen::Vector3d Hc = (Lc + Eigen::Vector3d(0, 0, -1)).norm() > 1e-9
+                                 ? (Lc + Eigen::Vector3d(0, 0, -1)).normalized()
+                                 : Eigen::Vector3d(0, 0, -1);
   for (int i = 0; i < 3; ++i) {
     sh.L[i] = static_cast<float>(Lc[i]);
     sh.U[i] = static_cast<float>(Uc[i]);
@@ -1152,7 +1176,8 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
             const RVert r2{vc.sx, vc.sy, vc.iz, flip * vc.nx * vc.iz, flip * vc.ny * vc.iz, flip * vc.nz * vc.iz};
             raster_triangle<true>(r0, r1, r2, tgt, sh, flat);
           } else {
-            const RVert r0{a.sx, a.sy, a.iz, 0, 0, 0}, r1{bv.sx, bv.sy, bv.iz, 0, 0, 0}, r2{vc.sx, vc.sy, vc.iz, 0, 0, 0};
+            const RVert r0{a.sx, a.sy, a.iz, 0, 0, 0}, r1{bv.sx, bv.sy, bv.iz, 0, 0, 0},
+                r2{vc.sx, vc.sy, vc.iz, 0, 0, 0};
             raster_triangle<false>(r0, r1, r2, tgt, sh, flat);
           }
           continue;
@@ -1163,13 +1188,18 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
         CVert poly_a[12], poly_b[12];
         const Vertex* tv[3] = {&a, &bv, &vc};
         for (int i = 0; i < 3; ++i)
-          poly_a[i] = {tv[i]->x, tv[i]->y, tv[i]->z, smooth ? flip * tv[i]->nx : 0.0f, smooth ? flip * tv[i]->ny : 0.0f,
+          poly_a[i] = {tv[i]->x,
+                       tv[i]->y,
+                       tv[i]->z,
+                       smooth ? flip * tv[i]->nx : 0.0f,
+                       smooth ? flip * tv[i]->ny : 0.0f,
                        smooth ? flip * tv[i]->nz : 0.0f};
         int n = clip_polygon(poly_a, 3, poly_b, 0, 0, 1, -znear);
         CVert* cur = poly_b;
         CVert* nxt = poly_a;
         const float G = kGuardPx;
-        const float planes[4][4] = {{f, 0, G + cx, 0}, {-f, 0, W + G - cx, 0}, {0, f, G + cy, 0}, {0, -f, H + G - cy, 0}};
+        const float planes[4][4] = {
+            {f, 0, G + cx, 0}, {-f, 0, W + G - cx, 0}, {0, f, G + cy, 0}, {0, -f, H + G - cy, 0}};
         for (int k = 0; k < 4 && n >= 3; ++k) {
           bool any_out = false;
           for (int i = 0; i < n; ++i)
@@ -1276,7 +1306,8 @@ void Renderer::draw_overlays(const Camera& camera, const Overlays& ov) {
     const int n_lines = static_cast<int>(ov.text_lines.size());
     const int x_lo = margin, y_lo = margin;
     const int x_hi = std::min(width_, margin + text_w + 2 * pad);
-    const int y_hi = std::min(height_, margin + n_lines * text_line_px_ + 2 * pad - (text_line_px_ - text_ascent_px_) / 2);
+    const int y_hi =
+        std::min(height_, margin + n_lines * text_line_px_ + 2 * pad - (text_line_px_ - text_ascent_px_) / 2);
     for (int y = y_lo; y < y_hi; ++y) {
       unsigned char* row = image_.ptr<unsigned char>(y);
       for (int x = 3 * x_lo; x < 3 * x_hi; ++x) row[x] = static_cast<unsigned char>(row[x] * 45 / 100);

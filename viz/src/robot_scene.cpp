@@ -206,9 +206,10 @@ Camera default_robot_camera(double robot_height_m, int width_px, int height_px, 
   const double az = 35.0 * M_PI / 180.0, el = 12.0 * M_PI / 180.0;
   const double fov = cam.fov_y_deg * M_PI / 180.0;
   // The visible height at distance D is 2 D tan(fov/2); the robot fills 75% of it.
-  const double dist = robot_height_m / (0.75 * 2.0 * std::tan(0.5 * fov)) + 0.3 * robot_height_m;
+  const double dist = robot_height_m / (0.75 * 2.0 * std::tan(0.5 * fov));
   cam.look_at = ground_point_W + Eigen::Vector3d(0, 0, 0.5 * robot_height_m);
-  cam.position = cam.look_at + dist * Eigen::Vector3d(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el));
+  cam.position =
+      cam.look_at + dist * Eigen::Vector3d(std::cos(az) * std::cos(el), std::sin(az) * std::cos(el), std::sin(el));
   cam.up = Eigen::Vector3d::UnitZ();
   return cam;
 }

@@ -38,9 +38,9 @@ struct Camera {
   Eigen::Vector3d position{3.0, 2.0, 1.5};  // m, world
   Eigen::Vector3d look_at{0.0, 0.0, 0.6};   // m, world
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  double fov_y_deg = 40;                    // vertical field of view, (0, 180)
+  double fov_y_deg = 40;  // vertical field of view, (0, 180)
   int width_px = 1280, height_px = 720;
-  double near_m = 0.05;                     // near clipping plane (camera z), > 0
+  double near_m = 0.05;  // near clipping plane (camera z), > 0
 };
 
 // Throws std::invalid_argument naming the problem: sizes < 1 px, fov outside (0, 180),
@@ -59,15 +59,16 @@ std::optional<Eigen::Vector2d> project(const Camera& camera, const Eigen::Vector
 // ---------------------------------------------------------------------------------
 // Scene: rigid bodies, each a list of triangle meshes fixed in the body frame B.
 struct SceneMesh {
-  std::vector<Eigen::Vector3f> vertices;      // m, body frame
-  std::vector<Eigen::Vector3f> normals;       // per vertex, unit; empty: flat face normals
-  std::vector<std::array<int, 3>> triangles;  // indices into vertices, counter-clockwise seen from outside
+  std::vector<Eigen::Vector3f> vertices;         // m, body frame
+  std::vector<Eigen::Vector3f> normals;          // per vertex, unit; empty: flat face normals
+  std::vector<std::array<int, 3>> triangles;     // indices into vertices, counter-clockwise seen from outside
   Eigen::Vector4f rgba{0.7f, 0.7f, 0.7f, 1.0f};  // display (sRGB) colour in [0, 1]; alpha 0 hides the mesh,
                                                  // other alphas draw it opaque
   // Back-face culling is used only where it is safe: Auto culls when the mesh is closed
   // and consistently wound outward (every edge, with vertices welded by position, shared
-  // by exactly two triangles in opposite directions, and positive enclosed volume);
-  // TwoSided never culls and shades each triangle from the side the camera sees.
+  // by exactly two triangles in opposite directions, and positive enclosed volume), so
+  // its back faces can only be seen from inside it; TwoSided never culls and shades each
+  // triangle from the side the camera sees (open meshes are always drawn that way).
   enum class Faces { Auto, TwoSided };
   Faces faces = Faces::Auto;
 };
@@ -93,8 +94,8 @@ double place_on_ground(const Scene& scene, std::vector<Eigen::Isometry3d>& X_WB)
 // ---------------------------------------------------------------------------------
 // Overlays, drawn in 2-D after the 3-D pass (not hidden by geometry), anti-aliased.
 struct ForceArrow {
-  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();   // application point, m
-  Eigen::Vector3d f_W_N = Eigen::Vector3d::Zero(); // force, N (arrow points along it)
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();    // application point, m
+  Eigen::Vector3d f_W_N = Eigen::Vector3d::Zero();  // force, N (arrow points along it)
   Color color{230, 50, 40};
 };
 
@@ -103,29 +104,33 @@ struct Overlays {
   std::optional<Eigen::Vector3d> com_W;  // centre of mass: circled crosshair, a dashed drop line
                                          // and a ring on the ground at its projection (z = 0)
   std::vector<ForceArrow> forces;
-  double force_scale_m_per_N = 0.001;    // arrow length in the world per newton
-  double line_width_px = 2.0;            // arrows, CoM marker
+  double force_scale_m_per_N = 0.001;  // arrow length in the world per newton
+  double line_width_px = 2.0;          // arrows, CoM marker
   Color com_color{255, 210, 0};
 };
 
 // ---------------------------------------------------------------------------------
 // Looks: lights, ground, background. Public fields; change them between frames.
 struct RenderStyle {
-  // Directional key light: direction from the scene towards the light (need not be unit).
-  Eigen::Vector3d light_from_W{0.45, 0.75, 1.4};
+  // Directional key light: direction from the scene towards the light (need not be
+  // unit). The default comes from the front-right and above, so in the default 3/4 view
+  // from the front-left the front faces are lit, the left faces shaded, and the shadow
+  // falls to the back-left where the camera sees it.
+  Eigen::Vector3d light_from_W{0.7, -0.35, 1.0};
   // Lambert + ambient in linear light, times the linear albedo:
   //   ambient (lerped from ambient_down to ambient_up as the normal turns from -z to +z)
   //   + diffuse max(0, n.l) + fill max(0, n.v) (a headlight from the camera)
-  //   + specular max(0, n.h)^32 (white, Blinn half vector of l and the view axis).
-  double ambient_up = 0.28, ambient_down = 0.16, diffuse = 0.85, fill = 0.18, specular = 0.12;
+  //   + specular max(0, n.h)^32 (white, Blinn half vector of l and the view axis),
+  // then converted to sRGB.
+  double ambient_up = 0.3, ambient_down = 0.16, diffuse = 0.85, fill = 0.25, specular = 0.2;
   // Ground plane z = 0 with grid lines (constant width in pixels, the minor ones fading
   // out as they crowd together), the world x (red) and y (green) axes, and a fade into
   // the horizon haze with distance.
   bool ground = true;
   bool grid = true;
   bool axes = true;
-  bool shadows = true;        // soft projected shadow of all meshes on the ground
-  double shadow_strength = 0.55;  // fraction of ground light removed under the full shadow
+  bool shadows = true;              // soft projected shadow of all meshes on the ground
+  double shadow_strength = 0.55;    // fraction of ground light removed under the full shadow
   double shadow_softness_m = 0.02;  // blur radius
   double grid_minor_m = 0.1, grid_major_m = 1.0;
   double ground_fade_start_m = 6, ground_fade_end_m = 25;  // camera distance
@@ -149,10 +154,10 @@ class Renderer {
   // Throws std::invalid_argument unless both sizes are in [16, 16384] px.
   Renderer(int width_px, int height_px);
   ~Renderer();
-  Renderer(const Renderer&);
-  Renderer(Renderer&&) noexcept;
-  Renderer& operator=(const Renderer&);
-  Renderer& operator=(Renderer&&) noexcept;
+  Renderer(Renderer&&);
+  Renderer& operator=(Renderer&&);
+  Renderer(const Renderer&) = delete;  // owns large buffers; make another one instead
+  Renderer& operator=(const Renderer&) = delete;
 
   // Converts and keeps the geometry (the Scene itself is not referenced afterwards).
   // Throws std::invalid_argument naming the body and mesh for an index out of range,
@@ -193,15 +198,15 @@ class Renderer {
   // Overlays alone, on the current image (render() calls it last). Allocation free.
   void draw_overlays(const Camera& camera, const Overlays& overlays);
 
-  struct Glyph {
-    int advance = 0;        // px
-    int x0 = 0, y0 = 0;     // offset of the mask's top-left from the pen (baseline) position
-    cv::Mat coverage;       // CV_8U anti-aliased mask
-  };
-  struct PreparedMesh;     // converted geometry (defined in renderer.cpp)
-  struct Vertex;           // per-frame scratch
-
  private:
+  struct Glyph {
+    int advance = 0;     // px
+    int x0 = 0, y0 = 0;  // offset of the mask's top-left from the pen (baseline) position
+    cv::Mat coverage;    // CV_8U anti-aliased mask
+  };
+  struct PreparedMesh;  // converted geometry (defined in renderer.cpp)
+  struct Vertex;        // per-frame scratch
+
   void draw_background_and_ground(const Camera& camera, const Eigen::Isometry3d& X_WC);
   void build_shadow_map(const std::vector<Eigen::Isometry3d>& X_WB);
   void draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eigen::Isometry3d& X_CW, double f_px,
@@ -213,17 +218,17 @@ class Renderer {
   std::vector<PreparedMesh> meshes_;  // all bodies' meshes, flattened
   std::vector<std::size_t> bodies_;   // index of each body's first mesh in meshes_ (+ end)
   std::size_t triangle_count_ = 0;
-  std::vector<Vertex> scratch_;       // per-frame transformed vertices of one mesh
+  std::vector<Vertex> scratch_;  // per-frame transformed vertices of one mesh
   // Shadow map: coverage of the ground by the meshes' projections along the light.
   std::vector<float> shadow_, shadow_tmp_;
   int shadow_n_ = 0;
   double shadow_x0_ = 0, shadow_y0_ = 0, shadow_texel_m_ = 1;
   bool shadow_valid_ = false;
-  std::vector<float> srgb_to_linear_;        // 256 entries
   std::vector<unsigned char> linear_to_srgb_;  // 4096 entries over [0, 1]
   std::vector<unsigned char> sky_lut_;         // BGR by elevation
   std::vector<float> row_;                     // row buffers of the ground pass
-  std::array<Glyph, 95> glyphs_;              // ' ' .. '~'
+  std::vector<std::int32_t> row_int_;
+  std::array<Glyph, 95> glyphs_;  // ' ' .. '~'
   int text_line_px_ = 0, text_ascent_px_ = 0;
   Stats stats_;
 };

@@ -30,7 +30,7 @@ Scene scene_from_robot(const model::RobotDescription& robot, const RobotSceneOpt
 
 // Closed, outward-wound primitive meshes centred at the origin, with vertex normals
 // (flat per face for the box and the cylinder caps, smooth on curved surfaces).
-SceneMesh box_mesh(const Eigen::Vector3d& size_m);                      // full edge lengths
+SceneMesh box_mesh(const Eigen::Vector3d& size_m);                             // full edge lengths
 SceneMesh cylinder_mesh(double radius_m, double length_m, int segments = 24);  // along z
 SceneMesh sphere_mesh(double radius_m, int segments = 24);
 
