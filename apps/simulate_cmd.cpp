@@ -52,7 +52,11 @@ int SimulateCommand::run() const {
     for (const auto& run : r.runs)
       std::cout << fmt::format("{}: {:.3g} s simulated in {:.3g} s (real-time factor {:.3g})\n", run.name,
                                run.log.time().empty() ? 0.0 : run.log.time().back(), run.wall_s, run.real_time_factor);
-    for (const auto& f : r.files) std::cout << "wrote " << out_ << "/" << f << "\n";
+    for (const auto& f : r.files)
+      if (f.rfind("frames/", 0) != 0) std::cout << "wrote " << out_ << "/" << f << "\n";
+    if (r.frames > 0)
+      std::cout << fmt::format("wrote {}/frames/ ({} frames, rendered at {:.0f} frames/s)\n", out_, r.frames, r.render_fps);
+    std::cout << "report: " << r.report << "\n";
     return 0;
   } catch (const diagrams::DiagramError& e) {
     if (drawn) std::fprintf(stderr, "\n");

@@ -117,7 +117,10 @@ ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>
       std::vector<double> m, a;
       for (const auto& h : td->F.H) {
         m.push_back(20 * std::log10(std::abs(h)));
-        a.push_back(std::arg(h) * 180 / M_PI);
+        double deg = std::arg(h) * 180 / M_PI;  // unwrapped like the model's curve
+        while (!a.empty() && deg - a.back() > 180) deg -= 360;
+        while (!a.empty() && deg - a.back() < -180) deg += 360;
+        a.push_back(deg);
       }
       mag.series.push_back({label + " output, simulated", *fr, m, viz::Color{}, 1.0, false, true});
       ph.series.push_back({label + " output, simulated", *fr, a, viz::Color{}, 1.0, false, true});
