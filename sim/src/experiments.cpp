@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "dmbd/blocks/error.hpp"
+#include "experiment_support.hpp"
 
 namespace dmbd::sim {
 
@@ -20,19 +21,9 @@ const VariantResult& find_run(const std::vector<VariantResult>& runs, const std:
   throw InputError(file + ": no variant is named '" + name + "'");
 }
 
-const std::vector<double>& signal(const VariantResult& r, const std::string& name, const std::string& file) {
-  if (r.log.find(name) < 0) throw InputError(file + ": variant '" + r.name + "' logged no signal '" + name + "'");
-  return r.log.column(name);
-}
-
-std::string text_or(const ExperimentSetup& e, const std::string& key, const std::string& fallback) {
-  const auto it = e.text.find(key);
-  return it == e.text.end() ? fallback : it->second;
-}
-double number_or(const ExperimentSetup& e, const std::string& key, double fallback) {
-  const auto it = e.number.find(key);
-  return it == e.number.end() ? fallback : it->second;
-}
+using detail::number_or;
+using detail::signal;
+using detail::text_or;
 
 // Nested JSON position for a run: metrics[a1][a2]... by its matrix axes (its name
 // without axes).

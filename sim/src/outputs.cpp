@@ -60,7 +60,8 @@ struct FrameSink {
     const auto X = plant.link_poses();
     if (!renderer) {
       renderer.emplace(s.frames.width_px, s.frames.height_px);
-      renderer->set_scene(viz::scene_from_robot(plant.description()));
+      const viz::Scene scene = viz::scene_from_robot(plant.description());
+      renderer->set_scene(scene);
       camera.width_px = s.frames.width_px;
       camera.height_px = s.frames.height_px;
       if (s.frames.camera_position && s.frames.camera_look_at) {
@@ -68,7 +69,7 @@ struct FrameSink {
         camera.look_at = *s.frames.camera_look_at;
       } else {
         // A three-quarter view from the front left that frames the robot's bounds.
-        const Eigen::AlignedBox3d b = viz::scene_bounds(viz::scene_from_robot(plant.description()), X);
+        const Eigen::AlignedBox3d b = viz::scene_bounds(scene, X);
         const double size = std::max(b.diagonal().norm(), 0.6);
         camera.look_at = b.center();
         camera.position = b.center() + 1.5 * size * Eigen::Vector3d(0.62, -0.70, 0.35).normalized();

@@ -384,8 +384,9 @@ Log Simulation::run(const std::function<void(double)>& on_frame, const std::func
       if (c.publish_at == t) m.publish(c);
     bool tick = false;
     for (auto& c : m.ctrls) tick = tick || c.next_tick == t;
+    // The true joint state (m.q, m.qd and their bus signals) was read right after the
+    // plant last advanced (or before the loop): it is current at t.
     if (tick) {
-      m.refresh_true();
       m.refresh_sensors(t);
       m.refresh_references(m.t_of(t));
       for (auto& c : m.ctrls) {
@@ -401,7 +402,6 @@ Log Simulation::run(const std::function<void(double)>& on_frame, const std::func
     if (tick || t == next_log) m.refresh_references(m.t_of(t));
     m.apply_commands();
     if (t == next_log) {
-      m.refresh_true();
       if (m.last_sensor_ns != t) m.refresh_sensors(t);  // sensors are also sampled at log ticks
       m.refresh_references(m.t_of(t));
       m.fill_logged();

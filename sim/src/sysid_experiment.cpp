@@ -10,20 +10,14 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/sim/experiments.hpp"
 #include "dmbd/sim/sysid.hpp"
+#include "experiment_support.hpp"
 
 namespace dmbd::sim {
 
 namespace {
 
-double number_or(const ExperimentSetup& e, const std::string& key, double fallback) {
-  const auto it = e.number.find(key);
-  return it == e.number.end() ? fallback : it->second;
-}
-
-const std::vector<double>& column(const VariantResult& r, const std::string& name, const std::string& file) {
-  if (r.log.find(name) < 0) throw InputError(file + ": variant '" + r.name + "' logged no signal '" + name + "'");
-  return r.log.column(name);
-}
+using detail::number_or;
+using detail::signal;
 
 // The variant's value on the axis named `axis` ("" when it has none).
 std::string axis_value(const VariantResult& r, const std::string& axis) {
@@ -78,10 +72,10 @@ ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>
     fo.baseline_s = number_or(e, "lead_in_s", 0.0);
     auto record = [&](const VariantResult& r, bool with_q) {
       RfseaRecord rec;
-      rec.i = column(r, J + ".current_applied", s.file);
-      rec.F = column(r, J + ".force", s.file);
-      rec.theta_m = column(r, J + ".motor_angle", s.file);
-      if (with_q) rec.q = column(r, J + ".q_enc", s.file);
+      rec.i = signal(r, J + ".current_applied", s.file);
+      rec.F = signal(r, J + ".force", s.file);
+      rec.theta_m = signal(r, J + ".motor_angle", s.file);
+      if (with_q) rec.q = signal(r, J + ".q_enc", s.file);
       return rec;
     };
     const auto f_locked = log_frequencies(number_or(e, "locked_f0_hz", 0.1), number_or(e, "locked_f1_hz", 200), static_cast<int>(number_or(e, "frequencies", 60)));
@@ -92,9 +86,12 @@ ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>
     opt.fixed[kK_l] = true;  // the knee axis is vertical: no gravity spring on the load
     const RfseaFit fit = identify_rfsea(data, opt);
 
-    const std::string prefix = g.empty() || g == order.front() ? "" : g + "_";
-    nlohmann::json& identified = prefix.empty() ? res.metrics["identified"] : res.metrics[g]["identified"];
-    nlohmann::json& rel = prefix.empty() ? res.metrics["rel_error"] : res.metrics[g]["rel_error"];
+    // The first noise condition at the top level (identified, true, rel_error), the
+    // others under their name.
+    const bool first = g == order.front();
+    nlohmann::json& top = first ? res.metrics : res.metrics[g];
+    nlohmann::json& identified = top["identified"];
+    nlohmann::json& rel = top["rel_error"];
     const auto p = to_array(fit.params);
     for (int k = 0; k < kRfseaNumParams; ++k) {
       const std::string name = rfsea_param_name(k);
@@ -103,7 +100,7 @@ ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>
       res.metrics["true"][name] = truth.at(name);
       rel[name] = std::abs(p[static_cast<std::size_t>(k)] / truth.at(name) - 1.0);
     }
-    nlohmann::json& fitinfo = prefix.empty() ? res.metrics["fit"] : res.metrics[g]["fit"];
+    nlohmann::json& fitinfo = top["fit"];
     fitinfo["rms_log_error"] = fit.rms_log_error;
     fitinfo["iterations"] = fit.iterations;
     fitinfo["converged"] = fit.converged;
@@ -111,7 +108,7 @@ ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>
 
     // Bode: measured F/i of both tests and the identified model (first group only
     // as solid lines; the others' measurements as markers).
-    if (g != order.front()) continue;
+    if (!first) continue;
     for (const auto& [test, td, fr] : {std::tuple{RfseaTest::Locked, &data.locked, &f_locked}, std::tuple{RfseaTest::Free, &data.free, &f_free}}) {
       const std::string label = test == RfseaTest::Locked ? "locked" : "free";
       std::vector<double> m, a;

@@ -21,6 +21,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "viz_test_support.hpp"
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -31,27 +33,13 @@ namespace dmbd::viz {
 namespace {
 
 namespace fs = std::filesystem;
+using test::find_chromium;
+// Temp folders named after this test file.
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("dmbd_test_report") {}
+};
 using nlohmann::json;
 
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "dmbd_test_report_XXXXXX").string();
-    if (mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -381,15 +369,6 @@ TEST(Report, WriteIsAtomic) {
 
 // ---- The page in a real browser ---------------------------------------------------
 
-std::string find_chromium() {
-  const char* env_path = std::getenv("PATH");
-  std::stringstream dirs(env_path ? env_path : "/usr/bin:/bin");
-  std::string d;
-  while (std::getline(dirs, d, ':'))
-    for (const char* name : {"chromium", "chromium-browser"})
-      if (!d.empty() && fs::exists(fs::path(d) / name)) return (fs::path(d) / name).string();
-  return {};
-}
 
 // Plot series colour: nothing else on the page is this red.
 constexpr Color kPlotRed{220, 20, 20};

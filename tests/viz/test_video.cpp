@@ -19,6 +19,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "viz_test_support.hpp"
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -27,27 +29,12 @@ namespace dmbd::viz {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh directory under the system temp dir, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "dmbd_test_video_XXXXXX").string();
-    if (mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
+using test::find_chromium;
+// Temp folders named after this test file.
+struct TempDir : test::TempDir {
+  TempDir() : test::TempDir("dmbd_test_video") {}
 };
+
 
 constexpr int kSquare_px = 40;
 const cv::Scalar kSquareBgr(0, 0, 220);      // red square
@@ -304,15 +291,6 @@ TEST(Video, AbandonedWriterRemovesItsTemporaryFile) {
 
 // ---- Playback in a real browser -------------------------------------------------
 
-std::string find_chromium() {
-  const char* env_path = std::getenv("PATH");
-  std::stringstream dirs(env_path ? env_path : "/usr/bin:/bin");
-  std::string d;
-  while (std::getline(dirs, d, ':'))
-    for (const char* name : {"chromium", "chromium-browser"})
-      if (!d.empty() && fs::exists(fs::path(d) / name)) return (fs::path(d) / name).string();
-  return {};
-}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
