@@ -175,10 +175,10 @@ ExperimentResult thermal(const Scenario& s, const std::vector<VariantResult>& ru
       a.series.push_back({std::string(which == std::string("cooled") ? "liquid cooling on" : "cooling off"), t, T});
     }
     c.series.push_back({"applied current", t, signal(r, e.joint + ".current_applied", s.file)});
-    const auto& i = signal(r, e.joint + ".current_applied", s.file);
-    double sq = 0;
-    for (double x : i) sq += x * x;
-    res.metrics["rms_current_A"] = std::sqrt(sq / static_cast<double>(i.size()));
+    // The RMS over the whole run from the exact integral of i^2 (the log's 50 Hz samples
+    // of a 1 kHz current would alias its ripple).
+    const auto& i2t = signal(r, e.joint + ".i2t", s.file);
+    res.metrics["rms_current_A"] = t.back() > 0 ? std::sqrt(i2t.back() / t.back()) : 0.0;
   }
   if (!res.metrics.contains("peak_winding_C"))
     throw InputError(s.file + ": experiment thermal needs `thermal: {cooling: both}` (logs " + e.joint + ".T_winding_cooled and _uncooled)");
@@ -201,7 +201,8 @@ StepMetrics step_metrics(const std::vector<double>& t, const std::vector<double>
   double ss = 0;
   int nss = 0;
   for (std::size_t k = 0; k < t.size(); ++k) {
-    if (t[k] < t_step || t[k] > t_end) continue;
+    // [t_step, t_end): a reference that steps back at t_end is already back there.
+    if (t[k] < t_step || t[k] >= t_end) continue;
     const double frac = (y[k] - y0) / d;
     peak = std::max(peak, frac);
     if (t10 < 0 && frac >= 0.1) t10 = t[k];

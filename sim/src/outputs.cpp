@@ -2,6 +2,7 @@
 // video and report.html.
 #include "dmbd/sim/outputs.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -96,22 +97,29 @@ struct FrameSink {
 
 std::string combined_csv(const std::vector<VariantResult>& runs) {
   if (runs.size() == 1) return runs.front().log.to_csv();
-  std::size_t longest = 0;
-  for (std::size_t k = 0; k < runs.size(); ++k)
-    if (runs[k].log.rows() > runs[longest].log.rows()) longest = k;
+  // The time base: every instant any run logged, in order. Log times are whole
+  // nanoseconds times 1e-9, so runs that logged the same instant hold the same double.
+  std::vector<double> t;
+  for (const auto& r : runs) t.insert(t.end(), r.log.time().begin(), r.log.time().end());
+  std::sort(t.begin(), t.end());
+  t.erase(std::unique(t.begin(), t.end()), t.end());
   std::string out = "t [s]";
   for (const auto& r : runs)
     for (std::size_t c = 1; c < r.log.columns(); ++c)
       out += fmt::format(",{}/{} [{}]", r.name, r.log.name(static_cast<int>(c)), r.log.unit(static_cast<int>(c)));
   out += '\n';
-  const auto& t = runs[longest].log.time();
-  for (std::size_t row = 0; row < t.size(); ++row) {
-    out += fmt::format("{:.17g}", t[row]);
-    for (const auto& r : runs)
-      for (std::size_t c = 1; c < r.log.columns(); ++c) {
+  std::vector<std::size_t> next(runs.size(), 0);  // each run's first row not yet written
+  for (double ts : t) {
+    out += fmt::format("{:.17g}", ts);
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const Log& log = runs[k].log;
+      const bool has = next[k] < log.rows() && log.time()[next[k]] == ts;
+      for (std::size_t c = 1; c < log.columns(); ++c) {
         out += ',';
-        if (row < r.log.rows()) out += fmt::format("{:.17g}", r.log.column(static_cast<int>(c))[row]);
+        if (has) out += fmt::format("{:.17g}", log.column(static_cast<int>(c))[next[k]]);  // empty: no sample at ts
       }
+      if (has) ++next[k];
+    }
     out += '\n';
   }
   return out;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -31,9 +32,15 @@ struct Reader {
   std::string dir;
 
   std::string at(const YAML::Node& n) const {
+    if (!n.IsDefined()) return file;  // a missing key: callers name the map that lacks it
     const YAML::Mark m = n.Mark();
     if (m.line < 0) return file;
     return fmt::format("{}:{}:{}", file, m.line + 1, m.column + 1);
+  }
+  // The value of a key the map n must have.
+  YAML::Node required(const YAML::Node& n, const char* key, const std::string& what) const {
+    if (!n[key]) fail(n, what + ": expected '" + key + "'");
+    return n[key];
   }
   [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const { throw InputError(at(n) + ": " + what); }
 
@@ -81,17 +88,29 @@ struct Reader {
     if (!n.IsSequence() || n.size() != 3) fail(n, what + ": expected a list of 3 numbers");
     return {number(n[0], what), number(n[1], what), number(n[2], what)};
   }
-  std::vector<std::string> names(const YAML::Node& n, const std::string& what) const {
+  // A name or a list of names; where[prefix + ":" + name] is set to each one's location.
+  std::vector<std::string> names(const YAML::Node& n, const std::string& what, std::map<std::string, std::string>* where = nullptr,
+                                 const std::string& prefix = "") const {
     std::vector<std::string> r;
-    if (n.IsScalar()) return {n.Scalar()};
+    if (n.IsScalar()) {
+      if (where) (*where)[prefix + ":" + n.Scalar()] = at(n);
+      return {n.Scalar()};
+    }
     if (!n.IsSequence()) fail(n, what + ": expected a list of names");
-    for (const auto& e : n) r.push_back(text(e, what));
+    for (const auto& e : n) {
+      r.push_back(text(e, what));
+      if (where) (*where)[prefix + ":" + r.back()] = at(e);
+    }
     return r;
   }
-  std::vector<std::pair<std::string, double>> angles(const YAML::Node& n, const std::string& what) const {
+  std::vector<std::pair<std::string, double>> angles(const YAML::Node& n, const std::string& what,
+                                                     std::map<std::string, std::string>* where = nullptr, const std::string& prefix = "") const {
     if (!n.IsMap()) fail(n, what + ": expected a map of joint: value");
     std::vector<std::pair<std::string, double>> r;
-    for (const auto& kv : n) r.emplace_back(kv.first.as<std::string>(), number(kv.second, what + "." + kv.first.as<std::string>()));
+    for (const auto& kv : n) {
+      r.emplace_back(kv.first.as<std::string>(), number(kv.second, what + "." + kv.first.as<std::string>()));
+      if (where) (*where)[prefix + ":" + r.back().first] = at(kv.first);
+    }
     return r;
   }
   std::string path(const YAML::Node& n, const std::string& what) const {
@@ -176,22 +195,23 @@ struct Reader {
     }
     if (n["actuators"]) {
       r.all_actuators = n["actuators"].IsScalar() && n["actuators"].Scalar() == "all";
-      r.actuators = r.all_actuators ? std::vector<std::string>{} : names(n["actuators"], "robot.actuators");
+      r.actuators = r.all_actuators ? std::vector<std::string>{} : names(n["actuators"], "robot.actuators", &r.where, "actuators");
     }
     if (n["moving"]) {
       r.freeze_all_others = true;
-      r.moving = names(n["moving"], "robot.moving");
+      r.moving = names(n["moving"], "robot.moving", &r.where, "moving");
     }
-    if (n["freeze"]) r.freeze = angles(n["freeze"], "robot.freeze");
-    if (n["initial"]) r.initial = angles(n["initial"], "robot.initial");
-    if (n["lock"]) r.lock = angles(n["lock"], "robot.lock");
+    if (n["freeze"]) r.freeze = angles(n["freeze"], "robot.freeze", &r.where, "freeze");
+    if (n["initial"]) r.initial = angles(n["initial"], "robot.initial", &r.where, "initial");
+    if (n["lock"]) r.lock = angles(n["lock"], "robot.lock", &r.where, "lock");
     if (n["payloads"]) {
       r.payloads.clear();
       for (const auto& e : n["payloads"]) {
         keys(e, "robot.payloads", {"link", "mass_kg", "com", "inertia_kgm2"});
         Payload p;
-        p.link = text(e["link"], "payload.link");
-        p.mass_kg = positive(e["mass_kg"], "payload.mass_kg");
+        p.link = text(required(e, "link", "robot.payloads"), "payload.link");
+        p.mass_kg = positive(required(e, "mass_kg", "robot.payloads"), "payload.mass_kg");
+        r.where["payloads:" + p.link] = at(e["link"]);
         if (e["com"]) p.com_L = vec3(e["com"], "payload.com");
         if (e["inertia_kgm2"]) p.inertia_kgm2 = vec3(e["inertia_kgm2"], "payload.inertia_kgm2");
         r.payloads.push_back(p);
@@ -201,7 +221,9 @@ struct Reader {
       r.loads.clear();
       for (const auto& e : n["loads"]) {
         keys(e, "robot.loads", {"joint", "reflected_mass_kg"});
-        r.loads.push_back({text(e["joint"], "load.joint"), positive(e["reflected_mass_kg"], "load.reflected_mass_kg")});
+        r.loads.push_back({text(required(e, "joint", "robot.loads"), "load.joint"),
+                           positive(required(e, "reflected_mass_kg", "robot.loads"), "load.reflected_mass_kg")});
+        r.where["loads:" + r.loads.back().joint] = at(e["joint"]);
       }
     }
     if (n["contact"]) r.contact = boolean(n["contact"], "robot.contact");
@@ -212,6 +234,7 @@ struct Reader {
     keys(n, "controller", {"name", "diagram", "parameters", "rate_hz", "delay_s", "scalar", "word_bits", "inputs", "outputs"});
     ControllerSetup c;
     if (!n["name"] || !n["diagram"]) fail(n, "controller: expected 'name' and 'diagram'");
+    c.where = at(n["name"]);
     c.name = text(n["name"], "controller.name");
     c.diagram = path(n["diagram"], "controller '" + c.name + "'.diagram");
     if (n["parameters"]) c.parameters = angles(n["parameters"], "controller '" + c.name + "'.parameters");
@@ -228,8 +251,11 @@ struct Reader {
     for (const char* side : {"inputs", "outputs"}) {
       if (!n[side]) fail(n, "controller '" + c.name + "': expected '" + side + "' (program port: bus signal)");
       if (!n[side].IsMap()) fail(n[side], "controller '" + c.name + "'." + side + ": expected a map of port: signal");
-      for (const auto& kv : n[side])
-        (std::string(side) == "inputs" ? c.inputs : c.outputs).emplace_back(kv.first.as<std::string>(), text(kv.second, side));
+      const bool inputs = std::string(side) == "inputs";
+      for (const auto& kv : n[side]) {
+        (inputs ? c.inputs : c.outputs).emplace_back(kv.first.as<std::string>(), text(kv.second, side));
+        (inputs ? c.input_where : c.output_where).push_back(at(kv.second));
+      }
     }
     return c;
   }
@@ -246,14 +272,15 @@ struct Reader {
       v.references.clear();
       if (!n["references"].IsMap()) fail(n["references"], "references: expected a map of name: source");
       for (const auto& kv : n["references"])
-        v.references.push_back({kv.first.as<std::string>(), source(kv.second, "reference '" + kv.first.as<std::string>() + "'")});
+        v.references.push_back({kv.first.as<std::string>(), source(kv.second, "reference '" + kv.first.as<std::string>() + "'"), at(kv.first)});
     }
     if (n["forces"]) {
       v.forces.clear();
       for (const auto& e : n["forces"]) {
         keys(e, "force", {"link", "point", "direction", "source"});
         ForceSpec f;
-        f.link = text(e["link"], "force.link");
+        f.link = text(required(e, "link", "force"), "force.link");
+        f.where = at(e["link"]);
         if (e["point"]) f.point_L = vec3(e["point"], "force.point");
         if (e["direction"]) f.direction_W = vec3(e["direction"], "force.direction");
         if (!e["source"]) fail(e, "force: expected 'source'");
@@ -273,6 +300,7 @@ struct Reader {
     if (n["thermal"]) {
       const YAML::Node t = n["thermal"];
       keys(t, "thermal", {"cooling"});
+      if (!t["cooling"]) fail(t, "thermal: expected 'cooling: on, off or both'");
       const std::string c = t["cooling"].IsScalar() ? t["cooling"].Scalar() : "";
       if (c == "on" || c == "true") v.cooling = Cooling::On;
       else if (c == "off" || c == "false") v.cooling = Cooling::Off;
@@ -390,6 +418,17 @@ Scenario load_scenario(const std::string& path) {
     static const std::set<std::string> kTypes = {"sysid_rfsea", "force_tracking", "step_response", "thermal"};
     if (!kTypes.count(s.experiment.type))
       rd.fail(e["type"], "experiment.type: expected sysid_rfsea, force_tracking, step_response or thermal, got '" + s.experiment.type + "'");
+    // The keys each analysis reads (experiments.cpp, sysid_experiment.cpp): a name
+    // (true) or a number (false).
+    static const std::map<std::string, std::map<std::string, bool>> kKeys = {
+        {"step_response",
+         {{"reference", true}, {"output", true}, {"step_start_s", false}, {"step_end_s", false}, {"sine_start_s", false}, {"sine_end_s", false}}},
+        {"force_tracking", {{"reference", true}, {"output", true}, {"start_s", false}, {"plot_window_s", false}}},
+        {"thermal", {}},
+        {"sysid_rfsea",
+         {{"lead_in_s", false}, {"locked_f0_hz", false}, {"locked_f1_hz", false}, {"free_f0_hz", false}, {"free_f1_hz", false}, {"frequencies", false}}},
+    };
+    const auto& allowed = kKeys.at(s.experiment.type);
     for (const auto& kv : e) {
       const std::string k = kv.first.as<std::string>();
       if (k == "type") continue;
@@ -397,12 +436,14 @@ Scenario load_scenario(const std::string& path) {
         s.experiment.joint = rd.text(kv.second, "experiment.joint");
         continue;
       }
-      if (!kv.second.IsScalar()) rd.fail(kv.second, "experiment." + k + ": expected a number or a name");
-      try {
-        s.experiment.number[k] = kv.second.as<double>();
-      } catch (const YAML::Exception&) {
-        s.experiment.text[k] = kv.second.Scalar();
+      const auto it = allowed.find(k);
+      if (it == allowed.end()) {
+        std::string list = "type, joint";
+        for (const auto& [name, is_text] : allowed) list += ", " + name;
+        rd.fail(kv.first, "experiment " + s.experiment.type + ": unknown key '" + k + "' (expected one of: " + list + ")");
       }
+      if (it->second) s.experiment.text[k] = rd.text(kv.second, "experiment." + k);
+      else s.experiment.number[k] = rd.number(kv.second, "experiment." + k);
     }
   }
   return s;
@@ -457,6 +498,11 @@ void add_payload(model::RobotDescription& robot, const Payload& p) {
 VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options, double frame_rate_hz,
                           const std::function<void(double, const model::Plant&)>& on_frame) {
   const RobotSetup& r = v.robot;
+  // Where an entry of robot: was written (its file:line:col), else the scenario file.
+  auto where = [&](const std::string& key) {
+    const auto it = r.where.find(key);
+    return it == r.where.end() ? s.file : it->second;
+  };
   model::RobotDescription robot = load_robot(r);
   // Welded joints.
   std::vector<std::pair<std::string, double>> freeze = r.freeze;
@@ -468,13 +514,25 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
       freeze.emplace_back(j.name, j.has_limits ? std::clamp(0.0, j.lower, j.upper) : 0.0);
     }
   for (const auto& m : r.moving)
-    if (robot.joint_index(m) < 0) throw InputError(s.file + ": robot.moving: the robot has no joint '" + m + "'");
+    if (robot.joint_index(m) < 0) throw InputError(where("moving:" + m) + ": robot.moving: the robot has no joint '" + m + "'");
+  // The explicit welds, each checked where it was written (freeze_joints checks again).
+  for (const auto& [name, q] : r.freeze) {
+    const int j = robot.joint_index(name);
+    if (j < 0) throw InputError(where("freeze:" + name) + ": robot.freeze: the robot has no joint '" + name + "'");
+    const model::Joint& J = robot.joints[static_cast<std::size_t>(j)];
+    if (J.has_limits && (q < J.lower || q > J.upper))
+      throw InputError(fmt::format("{}: robot.freeze: joint '{}' welded at {} rad, outside its limits [{}, {}]", where("freeze:" + name), name, q,
+                                   J.lower, J.upper));
+  }
   try {
     robot = model::freeze_joints(robot, freeze);
   } catch (const model::ModelError& e) {
     throw InputError(s.file + ": robot.freeze: " + e.what());
   }
-  for (const auto& p : r.payloads) add_payload(robot, p);
+  for (const auto& p : r.payloads) {
+    if (robot.link_index(p.link) < 0) throw InputError(where("payloads:" + p.link) + ": robot.payloads: the robot has no link '" + p.link + "'");
+    add_payload(robot, p);
+  }
 
   // Actuators.
   std::vector<model::ActuatorParams> table;
@@ -494,7 +552,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   }
   for (const auto& name : r.actuators)
     if (!std::any_of(po.actuators.begin(), po.actuators.end(), [&](const auto& a) { return a.joint == name; }))
-      throw InputError(s.file + ": robot.actuators: '" + name + "' is not a moving joint with an actuator");
+      throw InputError(where("actuators:" + name) + ": robot.actuators: '" + name + "' is not a moving joint with an actuator");
 
   VariantResult res;
   res.name = v.name;
@@ -510,11 +568,12 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   for (const auto& load : r.loads) {
     const int j = robot.joint_index(load.joint);
     const auto act = std::find_if(po.actuators.begin(), po.actuators.end(), [&](const auto& a) { return a.joint == load.joint; });
-    if (j < 0 || act == po.actuators.end()) throw InputError(s.file + ": robot.loads: '" + load.joint + "' is not an actuated moving joint");
+    if (j < 0 || act == po.actuators.end())
+      throw InputError(where("loads:" + load.joint) + ": robot.loads: '" + load.joint + "' is not an actuated moving joint");
     const double n_l = act->linkage.N_l(initial_of(load.joint));
     const double need = load.reflected_mass_kg / (n_l * n_l) - subtree_axis_inertia(robot, j);
     if (need < 0)
-      throw InputError(fmt::format("{}: robot.loads: {} kg reflected is less than the bare link's {:.1f} kg", s.file, load.reflected_mass_kg,
+      throw InputError(fmt::format("{}: robot.loads: {} kg reflected is less than the bare link's {:.1f} kg", where("loads:" + load.joint), load.reflected_mass_kg,
                                    subtree_axis_inertia(robot, j) * n_l * n_l));
     const model::Joint& J = robot.joints[static_cast<std::size_t>(j)];
     Payload disc;
@@ -530,13 +589,13 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   Eigen::VectorXd q0 = plant.joint_positions();
   for (const auto& [n, q] : r.initial) {
     const int j = plant.joint_index(n);
-    if (j < 0) throw InputError(s.file + ": robot.initial: '" + n + "' is not a moving joint");
+    if (j < 0) throw InputError(where("initial:" + n) + ": robot.initial: '" + n + "' is not a moving joint");
     q0[j] = q;
   }
   plant.set_joint_positions(q0);
   for (const auto& [n, q] : r.lock) {
     const int j = plant.joint_index(n);
-    if (j < 0) throw InputError(s.file + ": robot.lock: '" + n + "' is not a moving joint");
+    if (j < 0) throw InputError(where("lock:" + n) + ": robot.lock: '" + n + "' is not a moving joint");
     plant.lock_joint(j, q);
   }
 
@@ -581,28 +640,34 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
         for (int k = 0; k < in.size; ++k) ranges.push_back(in.range.value_or(std::make_pair(-1.0, 1.0)));
       cs.fixed = std::make_shared<codegen::FixedProgram>(codegen::make_fixed(*program, ranges, c.word_bits));
     }
+    const std::string cwhere = c.where.empty() ? s.file : c.where;
+    cs.where = cwhere;
+    // Program ports in the diagram's order -> bus signals (and where each was bound).
     auto bind = [&](const std::vector<diagrams::SignalSpec>& ports, const std::vector<std::pair<std::string, std::string>>& given,
-                    const char* side) {
+                    const std::vector<std::string>& given_where, const char* side, std::vector<std::string>* port_where) {
       std::vector<std::string> out;
+      const auto where_of = [&](std::size_t k) { return k < given_where.size() && !given_where[k].empty() ? given_where[k] : cwhere; };
       for (const auto& port : ports) {
         const auto it = std::find_if(given.begin(), given.end(), [&](const auto& g) { return g.first == port.name; });
         if (it == given.end()) {
           if (std::string(side) == "outputs") {
             out.emplace_back();
+            if (port_where) port_where->push_back(cwhere);
             continue;
           }
-          throw InputError(s.file + ": controller '" + c.name + "': input '" + port.name + "' of " + c.diagram + " is not bound");
+          throw InputError(cwhere + ": controller '" + c.name + "': input '" + port.name + "' of " + c.diagram + " is not bound");
         }
         out.push_back(it->second);
+        if (port_where) port_where->push_back(where_of(static_cast<std::size_t>(it - given.begin())));
       }
-      for (const auto& g : given)
-        if (std::none_of(ports.begin(), ports.end(), [&](const auto& p) { return p.name == g.first; }))
-          throw InputError(s.file + ": controller '" + c.name + "': " + c.diagram + " has no " + std::string(side).substr(0, std::string(side).size() - 1) +
-                           " '" + g.first + "'");
+      for (std::size_t k = 0; k < given.size(); ++k)
+        if (std::none_of(ports.begin(), ports.end(), [&](const auto& p) { return p.name == given[k].first; }))
+          throw InputError(where_of(k) + ": controller '" + c.name + "': " + c.diagram + " has no " +
+                           std::string(side).substr(0, std::string(side).size() - 1) + " '" + given[k].first + "'");
       return out;
     };
-    cs.inputs = bind(d->inputs(), c.inputs, "inputs");
-    cs.outputs = bind(d->outputs(), c.outputs, "outputs");
+    cs.inputs = bind(d->inputs(), c.inputs, c.input_where, "inputs", &cs.input_where);
+    cs.outputs = bind(d->outputs(), c.outputs, c.output_where, "outputs", nullptr);
     spec.controllers.push_back(cs);
   }
 

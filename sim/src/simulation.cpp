@@ -22,11 +22,17 @@ namespace {
 using Ns = int64_t;
 constexpr Ns kNever = std::numeric_limits<Ns>::max();
 
+// "where: " for a spec item written at `where` (file:line:col), "" when it is unknown.
+std::string at(const std::string& where) { return where.empty() ? std::string() : where + ": "; }
+
 Ns period_ns(double rate_hz, const std::string& what) {
   if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw InputError(what + ": rate " + fmt::format("{}", rate_hz) + " Hz is not positive");
   const double p = 1e9 / rate_hz;
   const Ns r = static_cast<Ns>(std::llround(p));
-  if (r <= 0 || std::abs(p - static_cast<double>(r)) > 1e-6 * p)
+  // An absolute tolerance (a millionth of a nanosecond, or the rounding of 1e9 / rate
+  // for very long periods): 1500 Hz is 666666.67 ns, which would tick at 1500.0008 Hz
+  // while the program was discretised at 1500 Hz.
+  if (r <= 0 || std::abs(p - static_cast<double>(r)) > std::max(1e-6, 1e-12 * p))
     throw InputError(what + ": a rate of " + fmt::format("{}", rate_hz) + " Hz is not a whole number of nanoseconds per period");
   return r;
 }
@@ -76,11 +82,12 @@ struct Simulation::Impl {
   struct ActuatorIo {
     int joint = -1;
     int current = -1, q_enc = -1, q_pot = -1, force = -1, motor = -1, spring = -1;
-    int force_true = -1, current_applied = -1, temp_on = -1, temp_off = -1, housing_on = -1, housing_off = -1;
+    int force_true = -1, current_applied = -1, i2t = -1, temp_on = -1, temp_off = -1, housing_on = -1, housing_off = -1;
     model::Encoder motor_enc, spring_enc;
     std::optional<model::Potentiometer> pot;
     model::ThermalModel thermal_on, thermal_off;
     double q_enc_last = 0;
+    double i2t_A2s = 0;  // integral of the applied current squared since t = 0
   };
   std::vector<ActuatorIo> acts;
   std::mt19937_64 rng;
@@ -119,9 +126,9 @@ struct Simulation::Impl {
         if (plant.actuator_of_joint(j) == k) joint = j;
       const std::string& J = a.joint;
       ActuatorIo io{joint, add(J + ".current", "A"), add(J + ".q_enc", "rad"), add(J + ".q_pot", "rad"), add(J + ".force", "N"),
-                    add(J + ".motor_angle", "rad"), add(J + ".spring_deflection", "m"), -1, -1, -1, -1, -1, -1,
+                    add(J + ".motor_angle", "rad"), add(J + ".spring_deflection", "m"), -1, -1, -1, -1, -1, -1, -1,
                     model::Encoder(a.motor_encoder), model::Encoder(a.spring_encoder), std::nullopt,
-                    model::ThermalModel(a.thermal), model::ThermalModel(a.thermal), 0.0};
+                    model::ThermalModel(a.thermal), model::ThermalModel(a.thermal), 0.0, 0.0};
       if (spec.sensor_noise) io.pot.emplace(a.potentiometer, spec.seed * 1000003ULL + static_cast<uint64_t>(k));
       acts.push_back(std::move(io));
     }
@@ -130,6 +137,7 @@ struct Simulation::Impl {
       const std::string& J = plant.actuator(static_cast<int>(&io - acts.data())).joint;
       io.force_true = add(J + ".force_true", "N");
       io.current_applied = add(J + ".current_applied", "A");
+      io.i2t = add(J + ".i2t", "A^2 s");
       if (spec.cooling != Cooling::Off) {
         io.temp_on = add(J + (spec.cooling == Cooling::Both ? ".T_winding_cooled" : ".T_winding"), "degC");
         io.housing_on = add(J + (spec.cooling == Cooling::Both ? ".T_housing_cooled" : ".T_housing"), "degC");
@@ -144,21 +152,21 @@ struct Simulation::Impl {
     for (const auto& r : spec.references) {
       const int existing = find(r.name);
       const bool command = r.name.size() > 8 && (r.name.rfind(".current") == r.name.size() - 8 || r.name.rfind(".torque") == r.name.size() - 7);
-      if (existing >= 0 && !command) throw InputError("reference '" + r.name + "': the name is already a bus signal");
+      if (existing >= 0 && !command) throw InputError(at(r.where) + "reference '" + r.name + "': the name is already a bus signal");
       ref_sig.push_back(existing >= 0 ? existing : add(r.name, ""));
     }
     for (const auto& f : spec.forces) {
       const int l = plant.description().link_index(f.link);
-      if (l < 0) throw InputError("force on link '" + f.link + "': the robot has no such link");
+      if (l < 0) throw InputError(at(f.where) + "force on link '" + f.link + "': the robot has no such link");
       force_link.push_back(l);
     }
     // Controllers: outputs first (they define bus signals), then check inputs.
     for (const auto& c : spec.controllers) {
       const codegen::LoopProgram& p = *c.program;
       if (c.outputs.size() != p.outputs.size())
-        throw InputError(fmt::format("controller '{}': {} outputs bound for {} program outputs", c.name, c.outputs.size(), p.outputs.size()));
+        throw InputError(at(c.where) + fmt::format("controller '{}': {} outputs bound for {} program outputs", c.name, c.outputs.size(), p.outputs.size()));
       if (c.inputs.size() != p.inputs.size())
-        throw InputError(fmt::format("controller '{}': {} inputs bound for {} program inputs", c.name, c.inputs.size(), p.inputs.size()));
+        throw InputError(at(c.where) + fmt::format("controller '{}': {} inputs bound for {} program inputs", c.name, c.inputs.size(), p.inputs.size()));
       for (std::size_t k = 0; k < c.outputs.size(); ++k) {
         const std::string& unit = p.slots[static_cast<std::size_t>(p.outputs[k])].unit;
         add(c.outputs[k].empty() ? c.name + "." + p.slots[static_cast<std::size_t>(p.outputs[k])].name : c.outputs[k], unit);
@@ -167,30 +175,30 @@ struct Simulation::Impl {
     for (const auto& c : spec.controllers)
       for (const auto& o : c.outputs)
         for (const auto& r : spec.references)
-          if (o == r.name) throw InputError("controller '" + c.name + "' and a reference both drive '" + o + "'");
+          if (o == r.name) throw InputError(at(r.where) + "controller '" + c.name + "' and a reference both drive '" + o + "'");
     for (const auto& c : spec.controllers) {
       const codegen::LoopProgram& p = *c.program;
       auto make = [&]() -> decltype(Ctrl::run) {
         switch (c.scalar) {
           case Scalar::Float: return codegen::Interpreter<float>(p);
           case Scalar::Fixed:
-            if (!c.fixed) throw InputError("controller '" + c.name + "': fixed point without a fixed-point program");
+            if (!c.fixed) throw InputError(at(c.where) + "controller '" + c.name + "': fixed point without a fixed-point program");
             return codegen::FixedInterpreter(p, *c.fixed);
           default: return codegen::Interpreter<double>(p);
         }
       };
       Ctrl k{c, make(), {}, {}, std::vector<double>(p.inputs.size()), std::vector<double>(p.outputs.size()),
              std::vector<float>(p.inputs.size()), std::vector<float>(p.outputs.size()),
-             period_ns(c.rate_hz, "controller '" + c.name + "'"), 0, 0, kNever, 0};
+             period_ns(c.rate_hz, at(c.where) + "controller '" + c.name + "'"), 0, 0, kNever, 0};
       if (std::abs(c.rate_hz - p.rate_hz) > 1e-9 * c.rate_hz)
-        throw InputError(fmt::format("controller '{}': runs at {} Hz but its program was lowered at {} Hz", c.name, c.rate_hz, p.rate_hz));
+        throw InputError(at(c.where) + fmt::format("controller '{}': runs at {} Hz but its program was lowered at {} Hz", c.name, c.rate_hz, p.rate_hz));
       k.delay = static_cast<Ns>(std::llround(c.delay_s * 1e9));
       if (k.delay < 0 || k.delay > k.period)
-        throw InputError(fmt::format("controller '{}': delay {} s must be between 0 and one period ({} s)", c.name, c.delay_s, 1.0 / c.rate_hz));
+        throw InputError(at(c.where) + fmt::format("controller '{}': delay {} s must be between 0 and one period ({} s)", c.name, c.delay_s, 1.0 / c.rate_hz));
       for (std::size_t i = 0; i < c.inputs.size(); ++i) {
         const int s = find(c.inputs[i]);
         if (s < 0)
-          throw InputError("controller '" + c.name + "': input '" + p.slots[static_cast<std::size_t>(p.inputs[i])].name +
+          throw InputError(at(i < c.input_where.size() && !c.input_where[i].empty() ? c.input_where[i] : c.where) + "controller '" + c.name + "': input '" + p.slots[static_cast<std::size_t>(p.inputs[i])].name +
                            "' is bound to '" + c.inputs[i] + "', which no sensor, reference or controller provides");
         k.in.push_back(s);
       }
@@ -314,8 +322,10 @@ struct Simulation::Impl {
     if (dt <= 0 || na == 0) return;
     const Eigen::VectorXd i = plant.applied_currents();
     for (int k = 0; k < na; ++k) {
-      acts[static_cast<std::size_t>(k)].thermal_on.step(i[k], dt, true);
-      acts[static_cast<std::size_t>(k)].thermal_off.step(i[k], dt, false);
+      ActuatorIo& io = acts[static_cast<std::size_t>(k)];
+      io.thermal_on.step(i[k], dt, true);
+      io.thermal_off.step(i[k], dt, false);
+      io.i2t_A2s += i[k] * i[k] * dt;  // exact: the applied current is held between events
     }
   }
   void fill_logged() {
@@ -324,6 +334,7 @@ struct Simulation::Impl {
     for (int k = 0; k < na; ++k) {
       ActuatorIo& io = acts[static_cast<std::size_t>(k)];
       bus[static_cast<std::size_t>(io.current_applied)] = i[k];
+      bus[static_cast<std::size_t>(io.i2t)] = io.i2t_A2s;
       bus[static_cast<std::size_t>(io.force_true)] = f[k];
       if (io.temp_on >= 0) {
         bus[static_cast<std::size_t>(io.temp_on)] = io.thermal_on.state().T_winding_C;
@@ -402,7 +413,11 @@ Log Simulation::run(const std::function<void(double)>& on_frame, const std::func
     if (tick || t == next_log) m.refresh_references(m.t_of(t));
     m.apply_commands();
     if (t == next_log) {
-      if (m.last_sensor_ns != t) m.refresh_sensors(t);  // sensors are also sampled at log ticks
+      // Sensors are sampled at controller ticks only, so that what a controller sees
+      // (and the sensors' noise sequence) does not depend on the log rate: the log
+      // holds the last sample. With no controller (a reference drives the plant) they
+      // are sampled at log ticks.
+      if (m.ctrls.empty() && m.last_sensor_ns != t) m.refresh_sensors(t);
       m.refresh_references(m.t_of(t));
       m.fill_logged();
       log.begin_row(m.t_of(t));

@@ -25,7 +25,11 @@ struct ExperimentResult {
   std::vector<std::string> notes;                            // one line each, for the report
 };
 
-// Step metrics of y following a step of r at t_step (window [t_step, t_end]).
+// Step metrics of y following a step of r at t_step, over the window [t_step, t_end)
+// (half-open: a reference stepping back at t_end is not in it). y0 and r1 are y and r
+// at t_step; overshoot = max(0, peak of (y - y0)/(r1 - y0) - 1) in %, rise time from
+// 10 % to 90 % (first samples at or past them; infinite if not reached), steady-state
+// error = |mean(y - r)| over the window's last 20 %.
 struct StepMetrics {
   double overshoot_pct = 0, rise_time_s = 0, steady_state_error = 0;
 };

@@ -32,8 +32,10 @@ struct ScenarioRunResult {
 // Runs every variant and writes the outputs into out_dir (created if missing).
 ScenarioRunResult run_scenario(const Scenario& s, const std::string& out_dir, const ScenarioRunOptions& options = {});
 
-// The log of several variants as one table: columns "variant/signal" on the time base
-// of the longest run (shorter runs' cells empty); a single variant keeps plain names.
+// The log of several variants as one table: columns "variant/signal", one row per
+// instant any run logged (variants may log at different rates or for different
+// durations); a run's cells are empty at an instant it did not log. A single variant
+// keeps plain names.
 std::string combined_csv(const std::vector<VariantResult>& runs);
 
 }  // namespace dmbd::sim

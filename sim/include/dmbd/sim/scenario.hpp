@@ -50,6 +50,10 @@ struct RobotSetup {
   std::vector<ReflectedLoad> loads;
   bool contact = false;
   double gravity_m_s2 = 9.81;
+  // Where each named entry was written ("file:line:col"), keyed "moving:NAME",
+  // "actuators:NAME", "freeze:NAME", "initial:NAME", "lock:NAME", "loads:NAME",
+  // "payloads:LINK": mistakes found only when the robot is built are reported there.
+  std::map<std::string, std::string> where;
 };
 
 struct ControllerSetup {
@@ -62,6 +66,8 @@ struct ControllerSetup {
   int word_bits = 32;
   std::vector<std::pair<std::string, std::string>> inputs;   // program input -> bus signal
   std::vector<std::pair<std::string, std::string>> outputs;  // program output -> bus signal
+  std::string where;                                         // "file:line:col" of the controller
+  std::vector<std::string> input_where, output_where;        // ... of each binding
 };
 
 struct FrameSetup {

@@ -12,7 +12,9 @@
 // integer nanosecond grid, so runs are exactly repeatable.
 //
 // Bus signals (per joint J of the plant; the sensor ones are sampled at controller
-// ticks and at log ticks, and logged):
+// ticks, so that neither a controller's inputs nor the noise sequence depend on the
+// log rate, and the log holds the last sample; with no controller they are sampled at
+// log ticks):
 //   J.q, J.qd                true joint angle (rad) and rate (rad/s)
 //   J.current, J.torque      commands (A for an actuated joint; N m for any joint)
 //   and for a joint with an actuator:
@@ -21,7 +23,11 @@
 //   J.q_pot                  joint angle from the potentiometer (noise, ADC, 1st-order filter)
 //   J.force                  sensed actuator force K_s x_s (elastomer encoder), N
 //   J.motor_angle, J.spring_deflection   encoder readings (rad, m)
-// plus every reference (its name) and every controller output (its bus name). A
+// plus every reference (its name) and every controller output (its bus name). Logged
+// only, per actuator: J.force_true (N), J.current_applied (A, after the drive's limit),
+// J.i2t (A^2 s, the integral of the applied current squared since t = 0: exact, the
+// current is held between events), and the thermal nodes J.T_winding, J.T_housing
+// (degC; _cooled and _uncooled with cooling Both). A
 // reference may also drive a command directly ("l_knee.current": a current chirp for
 // system identification): it is then held from log tick to log tick.
 #include <cstdint>
@@ -52,11 +58,16 @@ struct ControllerSpec {
   double delay_s = 0;                 // computation delay: output applied this long after sampling
   std::vector<std::string> inputs;    // bus signal per program input
   std::vector<std::string> outputs;   // bus signal per program output
+  // Where the controller and each input binding were written ("file:line:col", or empty):
+  // errors about them start with it.
+  std::string where;
+  std::vector<std::string> input_where;
 };
 
 struct ReferenceSpec {
   std::string name;  // bus signal
   Source source;
+  std::string where = {};  // "file:line:col" it was written at, or empty: starts errors about it
 };
 
 // A force on a link: f_W = direction * source(t) at point p_L of the link.
@@ -65,6 +76,7 @@ struct ForceSpec {
   Eigen::Vector3d point_L = Eigen::Vector3d::Zero();
   Eigen::Vector3d direction_W = Eigen::Vector3d::UnitX();
   Source source;
+  std::string where = {};  // as ReferenceSpec::where
 };
 
 enum class Cooling { On, Off, Both };

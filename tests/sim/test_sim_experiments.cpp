@@ -1,0 +1,93 @@
+// Step and tracking metrics of the experiments (dmbd/sim/experiments.hpp) on responses
+// with closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "dmbd/sim/experiments.hpp"
+
+namespace {
+
+using dmbd::sim::rms_error;
+using dmbd::sim::step_metrics;
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Record {
+  std::vector<double> t, r, y;
+};
+
+// A unit step at t = 1 s (from 0), sampled every dt = 1 / rate to t_end (t_k = k / rate:
+// the sample at 1 s is exactly 1.0); y(t) = response(t - 1).
+template <class F>
+Record step_record(F response, double dt, double t_end) {
+  Record rec;
+  const double rate = std::round(1.0 / dt);
+  for (int k = 0;; ++k) {
+    const double t = k / rate;
+    if (t > t_end + 1e-12) break;
+    rec.t.push_back(t);
+    rec.r.push_back(t >= 1.0 ? 1.0 : 0.0);
+    rec.y.push_back(t >= 1.0 ? response(t - 1.0) : 0.0);
+  }
+  return rec;
+}
+
+// First order, time constant tau: no overshoot, 10-90 % rise tau ln 9, and a final
+// error exp(-t) whose mean over the last 20 % of the window is known in closed form.
+TEST(SimStepMetrics, FirstOrderLag) {
+  const double tau = 0.05, dt = 1e-5;
+  const Record rec = step_record([&](double s) { return 1.0 - std::exp(-s / tau); }, dt, 1.3);
+  const auto m = step_metrics(rec.t, rec.r, rec.y, 1.0, 1.3);
+  EXPECT_EQ(m.overshoot_pct, 0.0);
+  // The 10 % and 90 % crossings are each found at the first sample past them: within
+  // one sample of tau ln 9.
+  EXPECT_NEAR(m.rise_time_s, tau * std::log(9.0), dt);
+  // Mean of exp(-s/tau) over s in [0.24, 0.3): (tau/0.06)(e^{-0.24/tau} - e^{-0.3/tau});
+  // the sampled mean differs by O(dt / tau) relative: 1e-3.
+  const double expected = tau / 0.06 * (std::exp(-0.24 / tau) - std::exp(-0.3 / tau));
+  EXPECT_NEAR(m.steady_state_error, expected, 1e-3 * expected);
+}
+
+// Second order with zeta = 0.3: overshoot exp(-pi zeta / sqrt(1 - zeta^2)).
+TEST(SimStepMetrics, SecondOrderOvershoot) {
+  const double zeta = 0.3, wn = 40.0, wd = wn * std::sqrt(1 - zeta * zeta), dt = 1e-5;
+  const Record rec = step_record(
+      [&](double s) {
+        return 1.0 - std::exp(-zeta * wn * s) * (std::cos(wd * s) + zeta / std::sqrt(1 - zeta * zeta) * std::sin(wd * s));
+      },
+      dt, 2.0);
+  const auto m = step_metrics(rec.t, rec.r, rec.y, 1.0, 2.0);
+  const double expected = 100.0 * std::exp(-kPi * zeta / std::sqrt(1 - zeta * zeta));
+  // The sampled peak is within (wd dt)^2 / 2 relative of the true one: 1e-7 % here.
+  EXPECT_NEAR(m.overshoot_pct, expected, 1e-4);
+}
+
+// The window is half-open: a reference that steps back to 0 exactly at t_end (as in
+// position_controllers.yaml, whose step ends at 2.0 s) does not enter the
+// steady-state error with that sample.
+TEST(SimStepMetrics, ReferenceSteppingBackAtTheWindowEndIsExcluded) {
+  const double dt = 1e-3;
+  Record rec = step_record([](double) { return 0.99; }, dt, 2.5);  // 1 % steady-state error
+  for (std::size_t k = 0; k < rec.t.size(); ++k)
+    if (rec.t[k] >= 2.0 - 1e-12) rec.r[k] = 0.0;  // back at t = 2.0; y has not moved yet
+  const auto m = step_metrics(rec.t, rec.r, rec.y, 1.0, 2.0);
+  EXPECT_NEAR(m.steady_state_error, 0.01, 1e-12);
+  EXPECT_EQ(m.overshoot_pct, 0.0);
+}
+
+// RMS of a sine error over whole periods: amplitude / sqrt(2) (exact for samples
+// evenly spread over whole periods, but for rounding).
+TEST(SimRmsError, SineOverWholePeriods) {
+  std::vector<double> t, r, y;
+  for (int k = 0; k < 1000; ++k) {
+    t.push_back(k / 1000.0);
+    r.push_back(0.5);
+    y.push_back(0.5 + 0.2 * std::sin(2 * kPi * 4.0 * k / 1000.0));
+  }
+  EXPECT_NEAR(rms_error(t, r, y, 0.0, 0.999), 0.2 / std::sqrt(2.0), 1e-12);
+  EXPECT_TRUE(std::isnan(rms_error(t, r, y, 5.0, 6.0)));  // no samples in the window
+}
+
+}  // namespace
