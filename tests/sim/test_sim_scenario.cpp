@@ -24,42 +24,20 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/sim/outputs.hpp"
 #include "dmbd/sim/scenario.hpp"
+#include "sim_test_support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using dmbd::sim::test::read_text;
+using dmbd::sim::test::TempDir;
+using dmbd::sim::test::write_text;
 using dmbd::InputError;
 using dmbd::sim::load_scenario;
 using dmbd::sim::Scenario;
 
 const std::string kSourceDir = DMBD_SOURCE_DIR;
 const std::string kEncoderController = kSourceDir + "/examples/diagrams/position_encoder_controller.yaml";
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "dmbd_test_scenario_XXXXXX").string();
-    if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-};
-
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary);
-  f << text;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 // Comma-separated cells, empty ones (also trailing) kept.
 std::vector<std::string> split_csv(const std::string& line) {

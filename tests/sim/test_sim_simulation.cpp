@@ -34,10 +34,14 @@
 #include "dmbd/sim/scenario.hpp"
 #include "dmbd/sim/signals.hpp"
 #include "dmbd/sim/simulation.hpp"
+#include "sim_test_support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using dmbd::sim::test::read_text;
+using dmbd::sim::test::TempDir;
+using dmbd::sim::test::write_text;
 using dmbd::InputError;
 using dmbd::sim::ControllerSpec;
 using dmbd::sim::DivergenceError;
@@ -50,26 +54,6 @@ using dmbd::sim::Source;
 
 constexpr double kPi = 3.14159265358979323846;
 const std::string kSourceDir = DMBD_SOURCE_DIR;
-
-// A fresh temporary folder, removed with the object.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "dmbd_test_sim_XXXXXX").string();
-    if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
-};
-
-void write_text(const std::string& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary);
-  f << text;
-}
 
 // The knee-only table robot (as robot: {moving: [l_knee], actuators: [l_knee]} with the
 // torso fixed at 1.3 m), the knee at q0.
@@ -148,6 +132,15 @@ Source test_sine() {
   s.freq_hz = 37;
   s.offset = 0.25;
   return s;
+}
+
+// The knee reference of the closed-loop tests: 1 rad, stepping by 0.1 rad at 20 ms.
+Source knee_step() {
+  Source r;
+  r.kind = Source::Kind::Steps;
+  r.offset = 1.0;
+  r.steps = {{0.02, 0.1}};
+  return r;
 }
 
 Log run_gain(double delay_s, double log_rate_hz, double duration_s = 0.05) {
@@ -542,11 +535,7 @@ ClosedLoop run_encoder_pd(Scalar scalar, double delay_s, bool noise, double dura
   auto program = lower_file(file, 1000);
   auto plant = knee_plant();
   SimulationSpec spec;
-  Source r;
-  r.kind = Source::Kind::Steps;
-  r.offset = 1.0;
-  r.steps = {{0.02, 0.1}};
-  spec.references.push_back({"q_d", r});
+  spec.references.push_back({"q_d", knee_step()});
   ControllerSpec c = controller("position", program, 1000, delay_s, {"q_d", "l_knee.q_enc"}, {"l_knee.current"});
   c.scalar = scalar;
   if (scalar == Scalar::Fixed) {
@@ -688,11 +677,7 @@ TEST(SimLogging, LogRateDoesNotChangeWhatTheControllerSees) {
       auto program = lower_file(kSourceDir + "/examples/diagrams/position_potentiometer_controller.yaml", 1000);
       auto plant = knee_plant();
       SimulationSpec spec;
-      Source r;
-      r.kind = Source::Kind::Steps;
-      r.offset = 1.0;
-      r.steps = {{0.02, 0.1}};
-      spec.references.push_back({"q_d", r});
+      spec.references.push_back({"q_d", knee_step()});
       spec.controllers.push_back(controller("position", program, 1000, 1e-3, {"q_d", "l_knee.q_pot"}, {"l_knee.current"}));
       spec.duration_s = 0.3;
       spec.log_rate_hz = log_rate;
