@@ -20,10 +20,13 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/sim/outputs.hpp"
 #include "dmbd/sim/scenario.hpp"
+#include "dmbd/viz/renderer.hpp"
 #include "sim_test_support.hpp"
 
 namespace {
@@ -497,6 +500,71 @@ TEST(SimScenarioRun, WritesLogMetricsAndReport) {
     if (e.is_directory()) continue;
     EXPECT_NE(std::find(r.files.begin(), r.files.end(), rel), r.files.end()) << "unlisted file " << rel;
   }
+}
+
+// Frames from run_scenario show the robot and it moves between them. The knee is
+// driven by a constant 6 A (no controller) for 0.3 s, frames at 10/s from a fixed
+// camera, 320 x 240. "Shows the robot": the pixels that differ from the same camera's
+// view of the empty scene (ground, grid, sky). "Moves": the first and the last frame
+// differ, where a run with the knee locked gives (all but) identical frames. The
+// overlay's text panel (top rows, with the time) is left out of both measures.
+TEST(SimScenarioFrames, FramesShowTheRobotMoving) {
+  TempDir dir;
+  auto scenario = [&](bool locked) {
+    const std::string path = dir.file(locked ? "still.yaml" : "swing.yaml");
+    write_text(path, std::string("name: swing\n"
+                                 "robot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
+                                 "initial: {l_knee: 1.0}") +
+                         (locked ? ", lock: {l_knee: 1.0}" : "") +
+                         "}\n"
+                         "duration_s: 0.3\n"
+                         "references:\n"
+                         "  l_knee.current: {type: constant, value: 6.0}\n"
+                         "frames: {fps: 10, width: 320, height: 240, camera: {position: [1.6, -1.6, 1.0], look_at: [0, 0, 0.8]}}\n");
+    return load_scenario(path);
+  };
+  const int text_rows = 60;  // the overlay's text panel: two lines at the top
+  auto differing = [&](const cv::Mat& a, const cv::Mat& b) {
+    cv::Mat d;
+    cv::absdiff(a.rowRange(text_rows, a.rows), b.rowRange(text_rows, b.rows), d);
+    std::vector<cv::Mat> ch;
+    cv::split(d, ch);
+    cv::Mat m = cv::max(cv::max(ch[0], ch[1]), ch[2]) > 30;
+    return static_cast<double>(cv::countNonZero(m)) / static_cast<double>(a.total());
+  };
+  dmbd::viz::Camera camera;
+  camera.position = {1.6, -1.6, 1.0};
+  camera.look_at = {0, 0, 0.8};
+  camera.width_px = 320;
+  camera.height_px = 240;
+  dmbd::viz::Renderer empty(320, 240);
+  empty.set_scene(dmbd::viz::Scene{});
+  const cv::Mat background = empty.render({}, camera, {}).clone();
+
+  double moved_fraction[2] = {0, 0};
+  for (bool locked : {false, true}) {
+    SCOPED_TRACE(locked ? "knee locked" : "knee driven");
+    const std::string out = dir.file(locked ? "still" : "swing");
+    const auto r = dmbd::sim::run_scenario(scenario(locked), out, {});
+    ASSERT_EQ(r.frames, 4);  // t = 0, 0.1, 0.2, 0.3 s
+    EXPECT_TRUE(fs::exists(out + "/video.mp4"));
+    std::vector<cv::Mat> frames;
+    for (int k = 0; k < 4; ++k) {
+      frames.push_back(cv::imread(out + "/frames/frame_0000" + std::to_string(k) + ".png", cv::IMREAD_COLOR));
+      ASSERT_FALSE(frames.back().empty()) << "frame " << k;
+      ASSERT_EQ(frames.back().size(), cv::Size(320, 240));
+      // DRACO (1.3 m tall, 1.6-2.3 m from the camera) covers several % of the picture.
+      EXPECT_GT(differing(frames.back(), background), 0.03) << "frame " << k << " hardly differs from the empty scene";
+    }
+    const auto& q = r.runs[0].log.column("l_knee.q");
+    if (!locked) {
+      EXPECT_GT(std::abs(q.back() - q.front()), 0.1) << "the knee did not swing";
+    }
+    moved_fraction[locked] = differing(frames.front(), frames.back());
+  }
+  std::printf("pixels changed between the first and last frame: driven %.4f, locked %.4f\n", moved_fraction[0], moved_fraction[1]);
+  EXPECT_GT(moved_fraction[0], 0.005);
+  EXPECT_LT(moved_fraction[1], 0.001);
 }
 
 // The dmbd binary of the same build: <build>/apps/dmbd, the test being <build>/tests/sim/test_sim_sim.
