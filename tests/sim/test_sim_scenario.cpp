@@ -664,4 +664,48 @@ TEST(SimShippedScenarios, ForceDobBeatsPdAtEveryLoad) {
   }
 }
 
+// Paper Sec. II-B / IV-B: the shipped thermal scenario, whole (300 s of squat, about a
+// minute of wall time): with liquid cooling the knee winding stays below 60 degC,
+// without it passes 100 degC (issue 6's figures; the paper's balancing run passed
+// 130 degC uncooled over a longer time). The RMS current (exact, from J.i2t) must be
+// a real load and below the cooled continuous current.
+TEST(SimShippedScenarios, ThermalCoolingKeepsTheWindingBelow60C) {
+  TempDir dir;
+  const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/thermal.yaml");
+  dmbd::sim::ScenarioRunOptions o;
+  o.frames = false;
+  const auto r = dmbd::sim::run_scenario(s, dir.file("out"), o);
+  const auto& m = r.experiment.metrics;
+  const double cooled = m["peak_winding_C"]["cooled"].get<double>(), uncooled = m["peak_winding_C"]["uncooled"].get<double>();
+  const double rms = m["rms_current_A"].get<double>();
+  std::printf("RMS current %.3f A, peak winding %.2f degC cooled, %.2f degC uncooled\n", rms, cooled, uncooled);
+  EXPECT_LT(cooled, 60.0);
+  EXPECT_GT(uncooled, 100.0);
+  EXPECT_GT(rms, 3.0);  // the squat loads the knee: a few amperes
+  EXPECT_LT(rms, 7.46);  // below the cooled continuous current (docs/model.md)
+}
+
+// Paper Table I / Fig. 5(a): the shipped identification scenario, whole (190 s simulated,
+// about a minute of wall time): every parameter within 5 % with exact sensors and 15 %
+// with their noise (issue 6); measured 0.08 % and 0.35 %.
+TEST(SimShippedScenarios, SysidRecoversTableI) {
+  TempDir dir;
+  const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/sysid_knee.yaml");
+  dmbd::sim::ScenarioRunOptions o;
+  o.frames = false;
+  const auto r = dmbd::sim::run_scenario(s, dir.file("out"), o);
+  const auto& m = r.experiment.metrics;
+  for (const char* p : {"J_m", "B_m", "M_r", "B_r", "K_r", "M_l", "B_l"}) {
+    const double exact = m["rel_error"][p].get<double>(), noisy = m["noisy"]["rel_error"][p].get<double>();
+    std::printf("%-4s relative error: exact %.2e, noisy %.2e\n", p, exact, noisy);
+    EXPECT_LT(std::abs(exact), 0.05) << p;
+    EXPECT_LT(std::abs(noisy), 0.15) << p;
+    // The identified value is compared with the simulator's own (Table I for the knee).
+    const double truth = m["true"][p].get<double>(), id = m["identified"][p].get<double>();
+    EXPECT_NEAR(std::abs(id - truth) / truth, std::abs(exact), 1e-12) << p;
+  }
+  EXPECT_EQ(m["true"]["K_r"].get<double>(), 9.5e6);  // Table I
+  EXPECT_EQ(m["true"]["M_r"].get<double>(), 1.3);    // Table I
+}
+
 }  // namespace
