@@ -87,7 +87,15 @@ ExperimentResult step_response(const Scenario& s, const std::vector<VariantResul
     sx.x_limits = sxe.x_limits = std::make_pair(t_sine, t_sine_end);
     sx.x_tick_labels = false;
   }
-  ax.h_lines = {};
+  // The y range of what is shown (the runs go on to a sinusoid outside the window).
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& series : ax.series)
+    for (std::size_t k = 0; k < series.x.size(); ++k)
+      if (series.x[k] >= ax.x_limits->first && series.x[k] <= ax.x_limits->second && std::isfinite(series.y[k])) {
+        lo = std::min(lo, series.y[k]);
+        hi = std::max(hi, series.y[k]);
+      }
+  if (lo < hi) ax.y_limits = viz::nice_limits(lo, hi, viz::Scale::Linear);
   res.figures.emplace_back("step_response.png", step_fig);
   if (t_sine >= 0) res.figures.emplace_back("sine_tracking.png", sine_fig);
   res.notes.push_back(fmt::format("Step metrics over [{}, {}] s of '{}' following '{}'; RMS error over [{}, {}] s.", t_step, t_step_end, out, ref,

@@ -241,6 +241,21 @@ TEST(Render, LegendInTopRightCorner) {
   EXPECT_EQ(red_top_right(false), 0);
 }
 
+// A labelled line along the top: the legend moves out of its way to the first free
+// corner in order (top-right, top-left, bottom-right, bottom-left): bottom-right.
+TEST(Render, LegendAvoidsTheData) {
+  const auto red_in = [](bool legend, bool top) {
+    Figure fig = unit_figure(Series{"response", {0, 1}, {0.97, 0.97}, kRed, 2.0});
+    fig.axes()[0].legend = legend;
+    const cv::Rect a = fig.plot_area(0);
+    const cv::Rect corner(a.x + a.width / 2, top ? a.y + a.height / 4 : a.y + 3 * a.height / 4, a.width / 2, a.height / 4);
+    return cv::countNonZero(red_mask(fig.render())(corner));
+  };
+  EXPECT_GT(red_in(true, false), 20);  // the legend's red sample, bottom right
+  EXPECT_EQ(red_in(false, false), 0);
+  EXPECT_EQ(red_in(true, true), 0);  // not just below the line at the top
+}
+
 TEST(Render, LogAxisIgnoresNonPositiveValues) {
   Figure fig(640, 480);
   Axes& ax = fig.add_axes();

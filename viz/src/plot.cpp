@@ -496,8 +496,10 @@ struct LegendLayout {
   int pad = 0, sample_w = 0, row_h = 0;
 };
 
-// Box in the top-right corner of the plot area, one row per labelled series.
-LegendLayout legend_layout(const Axes& ax, const cv::Rect& plot, const Style& st) {
+// Box in a corner of the plot area, one row per labelled series: the top-right one
+// unless another (top-left, bottom-right, bottom-left, in that order) covers fewer
+// series pixels (series_ink, in plot-area coordinates; empty: top-right).
+LegendLayout legend_layout(const Axes& ax, const cv::Rect& plot, const Style& st, const cv::Mat& series_ink) {
   LegendLayout g;
   for (std::size_t i = 0; i < ax.series.size(); ++i)
     if (!ax.series[i].label.empty()) g.entries.push_back(i);
@@ -509,9 +511,20 @@ LegendLayout legend_layout(const Axes& ax, const cv::Rect& plot, const Style& st
   for (std::size_t i : g.entries) text_w = std::max(text_w, measure(ax.series[i].label, st.tick).w);
   const int box_w = g.pad + g.sample_w + g.pad + text_w + g.pad;
   const int box_h = g.pad / 2 + static_cast<int>(g.entries.size()) * g.row_h + g.pad / 2;
-  g.box = cv::Rect(plot.x + plot.width - st.gap - box_w, plot.y + st.gap, box_w, box_h);
-  g.box.x = std::max(g.box.x, plot.x + 1);
-  g.box &= cv::Rect(plot.x + 1, plot.y + 1, plot.width - 2, plot.height - 2);
+  const int right = plot.x + plot.width - st.gap - box_w, left = plot.x + st.gap;
+  const int top = plot.y + st.gap, bottom = plot.y + plot.height - st.gap - box_h;
+  const cv::Rect inner(plot.x + 1, plot.y + 1, plot.width - 2, plot.height - 2);
+  int best_cost = -1;
+  for (const cv::Point& corner : {cv::Point(right, top), cv::Point(left, top), cv::Point(right, bottom), cv::Point(left, bottom)}) {
+    cv::Rect box(std::max(corner.x, plot.x + 1), std::max(corner.y, plot.y + 1), box_w, box_h);
+    box &= inner;
+    const int cost = series_ink.empty() || box.empty() ? 0 : cv::countNonZero(series_ink(box - plot.tl()));
+    if (best_cost < 0 || cost < best_cost) {
+      g.box = box;
+      best_cost = cost;
+    }
+    if (best_cost == 0) break;
+  }
   return g;
 }
 
@@ -613,11 +626,13 @@ void draw_axes(cv::Mat& img, const Axes& ax, const AxesLayout& al, const Layout&
     if (inside(p, sx)) draw_segment(area, {p, 0}, {p, sy}, kRefColor, 1, dash);
   }
 
-  // Series; with notes to place, the pixels they change are remembered.
+  // Series; with notes or a legend to place, the pixels they change are remembered.
   const bool has_notes =
       std::any_of(ax.h_line_labels.begin(), ax.h_line_labels.end(), [](const std::string& t) { return !t.empty(); }) ||
       std::any_of(ax.v_line_labels.begin(), ax.v_line_labels.end(), [](const std::string& t) { return !t.empty(); });
-  const cv::Mat before_series = has_notes ? area.clone() : cv::Mat();
+  const bool legend_wanted =
+      ax.legend && std::any_of(ax.series.begin(), ax.series.end(), [](const Series& x) { return !x.label.empty(); });
+  const cv::Mat before_series = has_notes || legend_wanted ? area.clone() : cv::Mat();
   std::vector<cv::Scalar> colors;
   for (std::size_t i = 0; i < ax.series.size(); ++i) {
     const Color c = ax.series[i].color;
@@ -626,7 +641,7 @@ void draw_axes(cv::Mat& img, const Axes& ax, const AxesLayout& al, const Layout&
   }
 
   cv::Mat series_ink;  // non-zero where a series was drawn
-  if (has_notes) {
+  if (has_notes || legend_wanted) {
     cv::Mat diff;
     cv::absdiff(area, before_series, diff);
     cv::inRange(diff, cv::Scalar::all(0), cv::Scalar::all(8), series_ink);
@@ -685,7 +700,7 @@ void draw_axes(cv::Mat& img, const Axes& ax, const AxesLayout& al, const Layout&
   // Reference-line notes, placed where they hide no data: candidate spots in order
   // of preference, the first that covers no series pixel and no other note, legend or
   // reference line wins (else the one covering the fewest series pixels).
-  const LegendLayout legend = legend_layout(ax, r, st);
+  const LegendLayout legend = legend_layout(ax, r, st, series_ink);
   std::vector<cv::Rect> blocked;
   if (!legend.box.empty()) blocked.push_back(legend.box - r.tl());
   std::vector<std::pair<cv::Rect, std::size_t>> ref_rects;  // thin boxes around reference lines

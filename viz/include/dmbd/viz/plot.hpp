@@ -47,7 +47,7 @@ struct Axes {
   std::optional<std::pair<double, double>> x_limits, y_limits;
   std::vector<Series> series;
   std::vector<double> h_lines, v_lines;  // thin dashed reference lines (e.g. -180 deg, a crossover frequency)
-  bool legend = true;
+  bool legend = true;  // in the top-right corner, or the first of top-left, bottom-right, bottom-left covering fewer series pixels
 
   // Additions.
   // Optional text beside the reference line of the same index (empty or missing:
