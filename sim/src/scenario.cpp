@@ -652,7 +652,6 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
         if (it == given.end()) {
           if (std::string(side) == "outputs") {
             out.emplace_back();
-            if (port_where) port_where->push_back(cwhere);
             continue;
           }
           throw InputError(cwhere + ": controller '" + c.name + "': input '" + port.name + "' of " + c.diagram + " is not bound");

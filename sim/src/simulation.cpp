@@ -198,7 +198,7 @@ struct Simulation::Impl {
       for (std::size_t i = 0; i < c.inputs.size(); ++i) {
         const int s = find(c.inputs[i]);
         if (s < 0)
-          throw InputError(at(i < c.input_where.size() && !c.input_where[i].empty() ? c.input_where[i] : c.where) + "controller '" + c.name + "': input '" + p.slots[static_cast<std::size_t>(p.inputs[i])].name +
+          throw InputError(at(i < c.input_where.size() ? c.input_where[i] : c.where) + "controller '" + c.name + "': input '" + p.slots[static_cast<std::size_t>(p.inputs[i])].name +
                            "' is bound to '" + c.inputs[i] + "', which no sensor, reference or controller provides");
         k.in.push_back(s);
       }

@@ -1,30 +1,18 @@
 #pragma once
 // Shared by the co-simulation and scenario tests: temporary folders and text files.
-#include <stdlib.h>
-
-#include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <stdexcept>
 #include <string>
+
+#include "../viz/viz_test_support.hpp"
 
 namespace dmbd::sim::test {
 
-// A fresh folder under the system temp dir, removed with everything in it.
-struct TempDir {
-  std::filesystem::path path;
-  TempDir() {
-    std::string tmpl = (std::filesystem::temp_directory_path() / "dmbd_test_sim_XXXXXX").string();
-    if (!mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
-    path = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return (path / name).string(); }
+// A fresh folder under the system temp dir, removed with everything in it (the viz
+// tests' own), with file(name) for a path inside it.
+struct TempDir : viz::test::TempDir {
+  TempDir() : viz::test::TempDir("dmbd_test_sim") {}
+  std::string file(const std::string& name) const { return *this / name; }
 };
 
 inline void write_text(const std::string& path, const std::string& text) {

@@ -334,7 +334,7 @@ TEST(SimLog, WriteCsvIsAtomic) {
   EXPECT_EQ(content.str(), log.to_csv());
   // Nothing but the file itself: no temporary left behind.
   std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir.path)) names.push_back(e.path().filename().string());
+  for (const auto& e : fs::directory_iterator(dir.path())) names.push_back(e.path().filename().string());
   EXPECT_EQ(names, std::vector<std::string>{"log.csv"});
 }
 

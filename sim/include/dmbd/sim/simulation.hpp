@@ -58,8 +58,8 @@ struct ControllerSpec {
   double delay_s = 0;                 // computation delay: output applied this long after sampling
   std::vector<std::string> inputs;    // bus signal per program input
   std::vector<std::string> outputs;   // bus signal per program output
-  // Where the controller and each input binding were written ("file:line:col", or empty):
-  // errors about them start with it.
+  // Where the controller and each input binding were written ("file:line:col"; empty, or
+  // input_where shorter than inputs, when unknown): errors about them start with it.
   std::string where;
   std::vector<std::string> input_where;
 };
