@@ -1,196 +1,111 @@
-// RobotDynamics: the URDF's bare multibody tree in Simbody, queried through Simbody's
-// O(n) operators (calcM, residual forces, station/frame Jacobians and their bias terms).
+// RobotDynamics: the URDF's bare multibody tree, queried through the tree kernel
+// (Simbody's kinematics, the dynamics terms assembled without allocation).
 #include "dmbd/model/dynamics.hpp"
 
 #include "dmbd/model/error.hpp"
-#include "simbody_tree.hpp"
+#include "tree_kernel.hpp"
 
 namespace dmbd::model {
 
-using detail::to_eigen;
-using detail::to_simtk;
-
 struct RobotDynamics::Impl {
-  SimTK::MultibodySystem system;
-  SimTK::SimbodyMatterSubsystem matter{system};
-  SimTK::GeneralForceSubsystem forces{system};
-  SimTK::Force::Gravity gravity;
-  detail::Tree tree;
-  SimTK::State state;
-  std::vector<std::string> names;
-  double mass = 0;
-  const RobotDescription* robot = nullptr;
-
-  Impl(const RobotDescription& r, const DynamicsOptions& o) : robot(&r) {
-    gravity = SimTK::Force::Gravity(forces, matter, -SimTK::ZAxis, o.gravity_m_s2);
-    tree = detail::build_tree(r, matter, o.base, o.X_WB);
-    system.setUseUniformBackground(true);
-    state = system.realizeTopology();
-    system.realizeModel(state);
-    system.realize(state, SimTK::Stage::Position);
-    mass = matter.calcSystemMass(state);
+  const RobotDescription* robot;
+  detail::TreeKernel kernel;
+  Impl(const RobotDescription& r, const DynamicsOptions& o) : robot(&r), kernel(r, o.base, o.X_WB, o.gravity_m_s2) {}
+  int body(int link) const { return kernel.body_of_link(link); }
+  Eigen::Vector3d world(int link, const Eigen::Vector3d& p_L) const {
+    const int b = body(link);
+    return kernel.origin(b) + kernel.rotation(b) * p_L;
   }
-  const SimTK::MobilizedBody& body(int link) const {
-    if (link < 0 || link >= static_cast<int>(tree.link_body.size()))
-      throw ModelError("no link with index " + std::to_string(link));
-    return matter.getMobilizedBody(tree.link_body[static_cast<std::size_t>(link)]);
-  }
-  void need(SimTK::Stage st) const { system.realize(state, st); }
 };
-
-namespace {
-Eigen::MatrixXd to_eigen(const SimTK::Matrix& m) {
-  Eigen::MatrixXd out(m.nrow(), m.ncol());
-  for (int i = 0; i < m.nrow(); ++i)
-    for (int j = 0; j < m.ncol(); ++j) out(i, j) = m(i, j);
-  return out;
-}
-Eigen::VectorXd to_eigen(const SimTK::Vector& v) {
-  Eigen::VectorXd out(v.size());
-  for (int i = 0; i < v.size(); ++i) out[i] = v[i];
-  return out;
-}
-}  // namespace
 
 RobotDynamics::RobotDynamics(const RobotDescription& robot, const DynamicsOptions& options)
     : impl_(std::make_unique<Impl>(robot, options)) {}
 RobotDynamics::~RobotDynamics() = default;
 
-int RobotDynamics::nq() const { return impl_->state.getNQ(); }
-int RobotDynamics::nv() const { return impl_->state.getNU(); }
-int RobotDynamics::base_dofs() const { return impl_->tree.base_dofs; }
-const std::vector<std::string>& RobotDynamics::joint_names() const { return impl_->tree.joint_names; }
-const std::vector<std::string>& RobotDynamics::welded_joints() const { return impl_->tree.welded; }
+int RobotDynamics::nq() const { return impl_->kernel.nq(); }
+int RobotDynamics::nv() const { return impl_->kernel.nv(); }
+int RobotDynamics::base_dofs() const { return impl_->kernel.base_dofs(); }
+const std::vector<std::string>& RobotDynamics::joint_names() const { return impl_->kernel.joint_names(); }
+const std::vector<std::string>& RobotDynamics::welded_joints() const { return impl_->kernel.welded_joints(); }
 int RobotDynamics::joint_index(const std::string& name) const {
-  for (std::size_t i = 0; i < impl_->tree.joint_names.size(); ++i)
-    if (impl_->tree.joint_names[i] == name) return static_cast<int>(i);
+  const auto& n = joint_names();
+  for (std::size_t i = 0; i < n.size(); ++i)
+    if (n[i] == name) return static_cast<int>(i);
   return -1;
 }
+int RobotDynamics::joint_q_index(int joint) const { return impl_->kernel.joint_q(joint); }
+int RobotDynamics::joint_v_index(int joint) const { return impl_->kernel.joint_v(joint); }
 int RobotDynamics::link_index(const std::string& name) const { return impl_->robot->link_index(name); }
-double RobotDynamics::total_mass_kg() const { return impl_->mass; }
+double RobotDynamics::total_mass_kg() const { return impl_->kernel.total_mass_kg(); }
 
-Eigen::VectorXd RobotDynamics::neutral_configuration() const {
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(nq());
-  if (base_dofs()) q[0] = 1.0;
-  return q;
+Eigen::VectorXd RobotDynamics::neutral_configuration() const { return impl_->kernel.neutral_q(); }
+
+void RobotDynamics::set_state(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v) {
+  impl_->kernel.set_q(q);
+  impl_->kernel.set_v(v);
 }
 
-void RobotDynamics::set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-  detail::scatter_q(impl_->tree, impl_->matter, impl_->state, q);
-  detail::scatter_u(impl_->tree, impl_->matter, impl_->state, v);
-  // Quaternions are normalised by Simbody when realising Position (setQ does not).
-  impl_->matter.normalizeQuaternions(impl_->state);
+void RobotDynamics::mass_matrix(Eigen::Ref<Eigen::MatrixXd> A) const { impl_->kernel.mass_matrix(A); }
+void RobotDynamics::coriolis_and_gravity(Eigen::Ref<Eigen::VectorXd> bg) const { impl_->kernel.coriolis_and_gravity(bg); }
+void RobotDynamics::gravity(Eigen::Ref<Eigen::VectorXd> g) const { impl_->kernel.gravity(g); }
+void RobotDynamics::coriolis(Eigen::Ref<Eigen::VectorXd> b) const { impl_->kernel.coriolis(b); }
+void RobotDynamics::point_jacobian(int link, const Eigen::Vector3d& p_L, Eigen::Ref<Eigen::MatrixXd> J) const {
+  impl_->kernel.point_jacobian(impl_->body(link), impl_->world(link, p_L), J);
 }
+void RobotDynamics::frame_jacobian(int link, const Eigen::Vector3d& p_L, Eigen::Ref<Eigen::MatrixXd> J) const {
+  impl_->kernel.frame_jacobian(impl_->body(link), impl_->world(link, p_L), J);
+}
+void RobotDynamics::com_jacobian(Eigen::Ref<Eigen::MatrixXd> J) const { impl_->kernel.com_jacobian(J); }
 
 Eigen::MatrixXd RobotDynamics::mass_matrix() const {
-  impl_->need(SimTK::Stage::Position);
-  SimTK::Matrix M;
-  impl_->matter.calcM(impl_->state, M);
-  return to_eigen(M);
+  Eigen::MatrixXd A(nv(), nv());
+  mass_matrix(A);
+  return A;
 }
-
 Eigen::VectorXd RobotDynamics::coriolis_and_gravity() const {
-  impl_->need(SimTK::Stage::Dynamics);
-  // Residual of M vdot + b = f_applied at vdot = 0 with gravity as the applied force:
-  // b + g (g = -J^T f_gravity).
-  const SimTK::Vector_<SimTK::SpatialVec>& fb = impl_->system.getRigidBodyForces(impl_->state, SimTK::Stage::Dynamics);
-  const SimTK::Vector& fm = impl_->system.getMobilityForces(impl_->state, SimTK::Stage::Dynamics);
-  SimTK::Vector res;
-  impl_->matter.calcResidualForceIgnoringConstraints(impl_->state, fm, fb, SimTK::Vector(), res);
-  return to_eigen(res);
+  Eigen::VectorXd c(nv());
+  coriolis_and_gravity(c);
+  return c;
 }
-
+Eigen::VectorXd RobotDynamics::gravity() const {
+  Eigen::VectorXd g(nv());
+  gravity(g);
+  return g;
+}
 Eigen::VectorXd RobotDynamics::coriolis() const {
-  impl_->need(SimTK::Stage::Velocity);
-  SimTK::Vector res;
-  impl_->matter.calcResidualForceIgnoringConstraints(impl_->state, SimTK::Vector(), SimTK::Vector_<SimTK::SpatialVec>(),
-                                                     SimTK::Vector(), res);
-  return to_eigen(res);
+  Eigen::VectorXd c(nv());
+  coriolis(c);
+  return c;
 }
 
-Eigen::VectorXd RobotDynamics::gravity() const { return coriolis_and_gravity() - coriolis(); }
-
-Eigen::Isometry3d RobotDynamics::link_pose(int link) const {
-  impl_->need(SimTK::Stage::Position);
-  return to_eigen(impl_->body(link).getBodyTransform(impl_->state));
-}
-
-Eigen::Vector3d RobotDynamics::point_position(int link, const Eigen::Vector3d& p_L) const {
-  impl_->need(SimTK::Stage::Position);
-  return to_eigen(impl_->body(link).findStationLocationInGround(impl_->state, to_simtk(p_L)));
-}
-
+Eigen::Isometry3d RobotDynamics::link_pose(int link) const { return impl_->kernel.pose(impl_->body(link)); }
+Eigen::Vector3d RobotDynamics::point_position(int link, const Eigen::Vector3d& p_L) const { return impl_->world(link, p_L); }
 Eigen::MatrixXd RobotDynamics::point_jacobian(int link, const Eigen::Vector3d& p_L) const {
-  impl_->need(SimTK::Stage::Position);
-  SimTK::Matrix J;
-  impl_->matter.calcStationJacobian(impl_->state, impl_->body(link).getMobilizedBodyIndex(), to_simtk(p_L), J);
-  return to_eigen(J);
-}
-
-Eigen::Vector3d RobotDynamics::point_jacobian_dot_v(int link, const Eigen::Vector3d& p_L) const {
-  impl_->need(SimTK::Stage::Velocity);
-  return to_eigen(impl_->matter.calcBiasForStationJacobian(impl_->state, impl_->body(link).getMobilizedBodyIndex(),
-                                                           to_simtk(p_L)));
-}
-
-Eigen::MatrixXd RobotDynamics::frame_jacobian(int link, const Eigen::Vector3d& p_L) const {
-  impl_->need(SimTK::Stage::Position);
-  SimTK::Matrix J;
-  impl_->matter.calcFrameJacobian(impl_->state, impl_->body(link).getMobilizedBodyIndex(), to_simtk(p_L), J);
-  return to_eigen(J);
-}
-
-Eigen::Matrix<double, 6, 1> RobotDynamics::frame_jacobian_dot_v(int link, const Eigen::Vector3d& p_L) const {
-  impl_->need(SimTK::Stage::Velocity);
-  const SimTK::SpatialVec b =
-      impl_->matter.calcBiasForFrameJacobian(impl_->state, impl_->body(link).getMobilizedBodyIndex(), to_simtk(p_L));
-  Eigen::Matrix<double, 6, 1> out;
-  out << to_eigen(b[0]), to_eigen(b[1]);
-  return out;
-}
-
-Eigen::Vector3d RobotDynamics::com_position() const {
-  impl_->need(SimTK::Stage::Position);
-  return to_eigen(impl_->matter.calcSystemMassCenterLocationInGround(impl_->state));
-}
-
-Eigen::MatrixXd RobotDynamics::com_jacobian() const {
-  impl_->need(SimTK::Stage::Position);
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3, nv());
-  if (impl_->mass <= 0) return J;
-  const int nb = impl_->matter.getNumBodies();
-  for (SimTK::MobilizedBodyIndex b(1); b < nb; ++b) {
-    const SimTK::MassProperties& mp = impl_->matter.getMobilizedBody(b).getBodyMassProperties(impl_->state);
-    if (mp.getMass() <= 0) continue;
-    SimTK::Matrix Jb;
-    impl_->matter.calcStationJacobian(impl_->state, b, mp.getMassCenter(), Jb);
-    J += mp.getMass() / impl_->mass * to_eigen(Jb);
-  }
+  Eigen::MatrixXd J(3, nv());
+  point_jacobian(link, p_L, J);
   return J;
 }
-
-Eigen::Vector3d RobotDynamics::com_jacobian_dot_v() const {
-  impl_->need(SimTK::Stage::Velocity);
-  Eigen::Vector3d a = Eigen::Vector3d::Zero();
-  if (impl_->mass <= 0) return a;
-  const int nb = impl_->matter.getNumBodies();
-  for (SimTK::MobilizedBodyIndex b(1); b < nb; ++b) {
-    const SimTK::MassProperties& mp = impl_->matter.getMobilizedBody(b).getBodyMassProperties(impl_->state);
-    if (mp.getMass() <= 0) continue;
-    a += mp.getMass() / impl_->mass *
-         to_eigen(impl_->matter.calcBiasForStationJacobian(impl_->state, b, mp.getMassCenter()));
-  }
-  return a;
+Eigen::Vector3d RobotDynamics::point_jacobian_dot_v(int link, const Eigen::Vector3d& p_L) const {
+  return impl_->kernel.point_bias_acceleration(impl_->body(link), impl_->world(link, p_L));
+}
+Eigen::MatrixXd RobotDynamics::frame_jacobian(int link, const Eigen::Vector3d& p_L) const {
+  Eigen::MatrixXd J(6, nv());
+  frame_jacobian(link, p_L, J);
+  return J;
+}
+Eigen::Matrix<double, 6, 1> RobotDynamics::frame_jacobian_dot_v(int link, const Eigen::Vector3d& p_L) const {
+  return impl_->kernel.frame_bias_acceleration(impl_->body(link), impl_->world(link, p_L));
 }
 
-double RobotDynamics::kinetic_energy() const {
-  impl_->need(SimTK::Stage::Velocity);
-  return impl_->matter.calcKineticEnergy(impl_->state);
+Eigen::Vector3d RobotDynamics::com_position() const { return impl_->kernel.com(); }
+Eigen::MatrixXd RobotDynamics::com_jacobian() const {
+  Eigen::MatrixXd J(3, nv());
+  com_jacobian(J);
+  return J;
 }
+Eigen::Vector3d RobotDynamics::com_jacobian_dot_v() const { return impl_->kernel.com_bias_acceleration(); }
 
-double RobotDynamics::potential_energy() const {
-  impl_->need(SimTK::Stage::Dynamics);
-  return impl_->system.calcPotentialEnergy(impl_->state);
-}
+double RobotDynamics::kinetic_energy() const { return impl_->kernel.kinetic_energy(); }
+double RobotDynamics::potential_energy() const { return impl_->kernel.gravity_potential(); }
 
 }  // namespace dmbd::model

@@ -1,7 +1,8 @@
 #pragma once
 // Rigid-body dynamics of a robot for controllers (operational-space and whole-body
 // control): mass matrix, Coriolis + gravity, Jacobians and their bias terms, centre of
-// mass. Eigen types only; Simbody computes them behind the interface (model/src/).
+// mass. Eigen types only; Simbody realises the kinematics behind the interface and the
+// terms are assembled in model/src/tree_kernel.cpp (allocation-free).
 // The model is the bare multibody tree of the URDF: no actuators, contact or limits.
 //
 // Coordinates (Simbody's, documented so callers can rely on them):
@@ -44,15 +45,29 @@ class RobotDynamics {
   const std::vector<std::string>& joint_names() const;     // one per joint coordinate
   const std::vector<std::string>& welded_joints() const;
   int joint_index(const std::string& name) const;          // into joint_names(), or -1
+  int joint_q_index(int joint) const;                      // its entry in q
+  int joint_v_index(int joint) const;                      // its entry in v
   int link_index(const std::string& name) const;           // RobotDescription link index, or -1
   double total_mass_kg() const;
 
   // The default configuration: base at identity (floating) and every joint at 0.
   Eigen::VectorXd neutral_configuration() const;
 
-  // Sets the configuration and velocity every query below uses.
-  void set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+  // Sets the configuration and velocity every query below uses (quaternions are
+  // normalised). Nothing is allocated here or in the out-parameter queries below: a
+  // controller calls them every tick (tests/model/test_dynamics_alloc.cpp).
+  void set_state(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v);
 
+  // Out-parameter forms (sizes as stated; the caller preallocates).
+  void mass_matrix(Eigen::Ref<Eigen::MatrixXd> A) const;                  // nv x nv
+  void coriolis_and_gravity(Eigen::Ref<Eigen::VectorXd> bg) const;        // nv
+  void gravity(Eigen::Ref<Eigen::VectorXd> g) const;                      // nv
+  void coriolis(Eigen::Ref<Eigen::VectorXd> b) const;                     // nv
+  void point_jacobian(int link, const Eigen::Vector3d& p_L, Eigen::Ref<Eigen::MatrixXd> J) const;  // 3 x nv
+  void frame_jacobian(int link, const Eigen::Vector3d& p_L, Eigen::Ref<Eigen::MatrixXd> J) const;  // 6 x nv
+  void com_jacobian(Eigen::Ref<Eigen::MatrixXd> J) const;                 // 3 x nv
+
+  // Value forms (allocate the result).
   Eigen::MatrixXd mass_matrix() const;                     // A(q), nv x nv
   Eigen::VectorXd coriolis_and_gravity() const;            // b + g: A vdot + b + g = tau
   Eigen::VectorXd gravity() const;                         // g(q)

@@ -1,18 +1,25 @@
 #pragma once
-// The simulated robot: the URDF's multibody tree in Simbody plus DRACO's series-elastic
-// actuators (rotor, ball screw, elastomer, linkage), joint limits and damping, and
-// compliant foot contact. Eigen types only; Simbody stays in model/src/.
+// The simulated robot: the URDF's multibody tree plus DRACO's series-elastic actuators
+// (rotor, ball screw, elastomer, linkage), joint limits and damping, and compliant foot
+// contact, in generalized coordinates without constraints. Eigen types only; Simbody
+// stays in model/src/ (it realises the tree's kinematics).
 //
 // Inputs are held constant between calls to advance_to() (zero-order hold, as a
 // sampled controller drives it): motor currents for actuated joints, joint torques for
 // joints without an actuator (or every joint when actuators are off).
 //
-// Each actuated joint adds internal coordinates that are not joint coordinates: for an
-// RFSEA the elastomer deflection x_r (a slider carrying the reaction mass M_r) and the
-// rotor angle theta_m, tied by the rigid ball screw theta_m / N_m = dx(q) + x_r (a
-// Simbody CoordinateCoupler constraint); for an FSEA the rotor angle, coupled to the
-// joint through the elastomer force K_s (theta_m / N_m - dx(q)) + B_s (...)'. Here
-// dx(q) = x(q) - x(0) is the change of the linkage length. See docs/model.md.
+// Each actuator adds one coordinate, its spring deflection s: for an RFSEA the
+// elastomer compression x_r under the housing (the reaction mass M_r, a point mass on
+// the parent link's axis), for an FSEA the nut-to-output deflection. The rigid ball
+// screw makes the rotor angle theta_m = N_m (dx(q) + s), dx(q) = x(q) - x(0) the change
+// of the linkage length, so the rotor's inertia J_m N_m^2 enters the mass matrix
+// analytically (model/src/actuator_terms.hpp, docs/model.md section 6).
+//
+// Two integrators share these equations: Accurate (error-controlled Dormand-Prince 5(4),
+// for identification and frequency responses) and Fixed (a semi-implicit step in which
+// the stiff terms -- elastomer springs and dampers, joint and output damping, limits,
+// contact normal and sticking friction -- enter the linear solve
+// (M + h D + h^2 K) dv = h (f - c) - h^2 K v; no allocation per step).
 
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/dynamics.hpp"
@@ -27,15 +34,21 @@
 
 namespace dmbd::model {
 
-// Smooth Hunt-Crossley sphere/ground contact (Simbody's SmoothSphereHalfSpaceForce) on
-// every collision sphere of the robot.
+// Sphere/ground contact on every collision sphere of the robot (model/src/contact.hpp):
+// Hunt-Crossley normal force on the Hertz law; friction as a spring-damper to an anchor
+// on the ground, both in proportion to the normal force, capped by the Coulomb cone
+// (sticks without creeping, slides beyond mu F_n).
 struct ContactParams {
-  double stiffness_Pa = 1e7;           // plane-strain modulus E of the Hertz law
-  double dissipation_s_per_m = 2.0;    // Hunt-Crossley c: F = F_hertz (1 + 1.5 c v)
-  double static_friction = 0.8;
-  double dynamic_friction = 0.6;
-  double viscous_friction = 0.0;
-  double transition_velocity_m_s = 0.01;
+  double stiffness_Pa = 1e7;                  // plane-strain modulus E of the Hertz law
+  double dissipation_s_per_m = 2.0;           // Hunt-Crossley d: F = F_hertz (1 + 1.5 d xdot)
+  double friction = 0.8;                      // Coulomb coefficient mu
+  double stiction_displacement_m = 1e-3;      // tangential stiffness mu F_n / this
+  double stiction_velocity_m_s = 0.01;        // tangential damping mu F_n / this (regularised Coulomb's slope)
+};
+
+enum class Integration {
+  Accurate,  // error-controlled (Dormand-Prince 5(4)), relative accuracy `accuracy`
+  Fixed      // semi-implicit fixed step `step_s` (steps shortened to land on each advance_to time)
 };
 
 struct PlantOptions {
@@ -49,7 +62,9 @@ struct PlantOptions {
   double limit_stiffness_Nm_per_rad = 5e3;
   double limit_dissipation_s_per_rad = 1.0;
   bool joint_damping = true;               // URDF <dynamics damping>
-  double accuracy = 1e-5;                  // integrator relative accuracy
+  Integration integration = Integration::Accurate;
+  double accuracy = 1e-5;                  // Accurate: relative accuracy
+  double step_s = 5e-4;                    // Fixed: the largest step
 };
 
 struct ContactReading {
@@ -94,7 +109,8 @@ class Plant {
   void clear_external_forces();
 
   // Integrates to time t (s). Throws ModelError when the integrator fails or the state
-  // becomes non-finite ("simulation diverged at t = ...").
+  // becomes non-finite ("simulation diverged at t = ..."). In Fixed mode a call
+  // allocates nothing.
   void advance_to(double t);
   double time() const;
 
@@ -103,8 +119,8 @@ class Plant {
   Eigen::VectorXd joint_velocities() const;
   Eigen::Isometry3d base_pose() const;
   Eigen::Matrix<double, 6, 1> base_velocity() const;       // [omega_W; v_W]
-  Eigen::VectorXd actuator_forces() const;                 // sensed elastomer force K_s x_s, N
-  Eigen::VectorXd spring_deflections() const;              // x_r (RFSEA) or theta/N_m - dx (FSEA), m
+  Eigen::VectorXd actuator_forces() const;                 // sensed elastomer force K_s s, N
+  Eigen::VectorXd spring_deflections() const;              // s: x_r (RFSEA) or theta/N_m - dx (FSEA), m
   Eigen::VectorXd motor_angles() const;                    // rad
   Eigen::VectorXd motor_velocities() const;                // rad/s
   Eigen::VectorXd applied_currents() const;                // after clamping, A
@@ -119,7 +135,7 @@ class Plant {
   double potential_energy() const;                         // gravity + springs + contact
   Eigen::Vector3d imu_angular_velocity_B() const;          // torso, in torso frame
   Eigen::Vector3d imu_specific_force_B() const;            // torso origin, in torso frame
-  long long integrator_steps() const;                      // since the last reset()
+  long long integrator_steps() const;                      // accepted steps since the last reset()
 
  private:
   struct Impl;

@@ -1,0 +1,43 @@
+#pragma once
+// Internal to model/: one VLCA actuator in reduced coordinates, both kinds alike.
+//
+// Coordinates: the joint angle q it drives and the spring deflection s (RFSEA: the
+// elastomer compression x_r under the housing; FSEA: the nut-to-output deflection delta).
+// The rigid ball screw makes the rotor angle a function of them,
+//   theta_m = N_m (x(q) - x(0) + s),   rotor speed theta_m' = N_m w,  w = r(q) q' + s',
+// (RFSEA: theta_m / N_m = x_l + x_r; FSEA: the nut travel x_n = x(q) - x(0) + delta),
+// so the rotor needs no coordinate and no constraint: its kinetic energy
+// 1/2 J' w^2, J' = J_m N_m^2 (the reflected rotor, 704 kg at the knee), adds
+// J' a a^T to the mass matrix over (q, s) with a = (r, 1), and its Lagrange equations
+// add the velocity-product force -J' r'(q) q'^2 a. The motor force eta k_tau N_m i and
+// the rotor damping -B' w (B' = B_m N_m^2) act along a (virtual work of the screw);
+// the elastomer -K_s s - B_s s' acts on s; the output damping -B_l r^2 q' on q.
+// (MuJoCo's joint/tendon armature and Drake's reflected inertia are the same idea with
+// a constant ratio; here the ratio is the linkage's r(q).) The RFSEA's housing, the
+// reaction mass M_r that rides on s, is a point mass handled with the multibody tree
+// (plant_dynamics.cpp). The rotor's spin is taken relative to its housing only (its
+// coupling to the links' rotation, 1/(N_m r) ~ 0.3 % of the term kept, is neglected, as
+// in the anchors' armature models). docs/model.md, section 6.
+#include "dmbd/model/actuator.hpp"
+
+#include <Eigen/Core>
+
+namespace dmbd::model::detail {
+
+struct ActuatorTerms {
+  Eigen::Matrix2d M = Eigen::Matrix2d::Zero();   // added to the mass matrix over (q, s)
+  Eigen::Vector2d f = Eigen::Vector2d::Zero();   // generalized force on (q, s), velocity products included
+  Eigen::Matrix2d D = Eigen::Matrix2d::Zero();   // -d f / d (q', s') (enters the implicit solve)
+  Eigen::Matrix2d K = Eigen::Matrix2d::Zero();   // -d f / d (q, s)   (enters the implicit solve)
+};
+
+// `current_A` is the applied (already clamped) current.
+ActuatorTerms actuator_terms(const ActuatorParams& p, double q, double qd, double s, double sd, double current_A);
+
+// Readings of the actuator's state.
+double motor_angle(const ActuatorParams& p, double q, double s);               // rad
+double motor_velocity(const ActuatorParams& p, double q, double qd, double sd);  // rad/s
+double actuator_kinetic_energy(const ActuatorParams& p, double q, double qd, double sd);  // rotor only
+double actuator_potential_energy(const ActuatorParams& p, double s);           // elastomer
+
+}  // namespace dmbd::model::detail

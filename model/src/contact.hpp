@@ -1,0 +1,51 @@
+#pragma once
+// Internal to model/: sphere-on-ground contact (the ground is the plane z = 0), the law
+// both steppers use. Eigen only.
+//
+// Normal: Hunt-Crossley on the Hertz law of a sphere of radius R pressed into a flat,
+//   F_n = c x^{3/2} (1 + 3/2 d xdot),  c = 4/3 k sqrt(R k),  k = E^{2/3} / 2,
+// with x the penetration, xdot its rate, E the plane-strain modulus and d the
+// dissipation (s/m): the constants of Simbody's SmoothSphereHalfSpaceForce, so the
+// sinkage is that of the earlier model. F_n >= 0 (no pull when separating fast).
+// Friction: a tangential spring-damper from the contact point to an anchor on the
+// ground, f_t = -k_t (p - a) - d_t v_t, capped by the Coulomb cone |f_t| <= mu F_n,
+// with k_t = mu F_n / delta_s and d_t = mu F_n / v_s in proportion to the load: the
+// damping is regularised Coulomb friction's slope (v_s = 0.01 m/s, as before), the
+// spring removes its creep. While the cone holds (stick) the foot does not creep; the
+// spring alone reaches the cone at |p - a| = delta_s, beyond which the anchor is
+// dragged along (slip). This is the elastic-plastic ("history") tangential model of
+// discrete-element contact (Chrono's SMC) with a load-proportional stiffness.
+// The stiff parts of both (dF/dx, dF/dxdot; k_t, d_t while sticking) enter the fixed
+// stepper's implicit solve; sliding friction is applied explicitly.
+#include "dmbd/model/plant.hpp"
+
+#include <Eigen/Core>
+
+namespace dmbd::model::detail {
+
+struct SphereContact {
+  bool touching = false;
+  bool sliding = false;
+  double penetration_m = 0;
+  double normal_force_N = 0;
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  // on the robot at the contact point
+  Eigen::Matrix3d K = Eigen::Matrix3d::Zero();        // -d force / d position (implicit part)
+  Eigen::Matrix3d D = Eigen::Matrix3d::Zero();        // -d force / d velocity (implicit part)
+  double potential_J = 0;                             // Hertz and tangential-spring energy
+};
+
+// Hertz constant c (N/m^1.5) of a sphere of radius R on a flat of modulus E.
+double hertz_constant(double radius_m, double stiffness_Pa);
+// Penetration of that sphere under a static load (m).
+double hertz_sinkage(double force_N, double radius_m, double stiffness_Pa);
+
+// The force at a contact point of the sphere's body (world), given the penetration
+// (> 0 when touching), the point's velocity and its offset from the anchor (x, y).
+SphereContact sphere_contact(const ContactParams& p, double radius_m, double penetration_m,
+                             const Eigen::Vector3d& velocity_W, const Eigen::Vector2d& anchor_offset);
+
+// The anchor offset after the return map: unchanged while the spring force stays inside
+// the cone, else shortened along itself to k_t |offset| = mu F_n (|offset| = delta_s).
+Eigen::Vector2d slide_anchor(const ContactParams& p, double normal_force_N, const Eigen::Vector2d& anchor_offset);
+
+}  // namespace dmbd::model::detail

@@ -1,0 +1,299 @@
+#include "plant_dynamics.hpp"
+
+#include "actuator_terms.hpp"
+#include "dmbd/model/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace dmbd::model::detail {
+
+namespace {
+
+// A link must keep this much mass after giving up a housing's reaction mass.
+constexpr double kMinLinkMass = 0.2;
+
+// The link whose mass carries each RFSEA's housing (-1 for an FSEA): the actuated
+// joint's parent, or the nearest ancestor that can give M_r and keep kMinLinkMass.
+std::vector<int> housing_donors(const RobotDescription& r, const PlantOptions& o) {
+  std::vector<double> taken(r.links.size(), 0.0);
+  std::vector<int> donor;
+  for (const ActuatorParams& p : o.actuators) {
+    const int j = r.joint_index(p.joint);
+    if (j < 0) throw ModelError(r.source + ": actuator for joint '" + p.joint + "', which the robot does not have");
+    if (p.kind != ActuatorKind::RFSEA) {
+      donor.push_back(-1);
+      continue;
+    }
+    if (!(p.M_r_kg > 0)) throw ModelError(r.source + ": actuator of '" + p.joint + "': an RFSEA needs a reaction mass M_r > 0");
+    int l = r.link_index(r.joints[static_cast<std::size_t>(j)].parent);
+    while (l >= 0 && r.links[static_cast<std::size_t>(l)].mass_kg - taken[static_cast<std::size_t>(l)] - p.M_r_kg < kMinLinkMass) {
+      const int pj = r.parent_joint_of_link(l);
+      l = pj < 0 ? -1 : r.link_index(r.joints[static_cast<std::size_t>(pj)].parent);
+    }
+    if (l < 0) throw ModelError(r.source + ": no link can carry the " + std::to_string(p.M_r_kg) + " kg housing of '" + p.joint + "'");
+    taken[static_cast<std::size_t>(l)] += p.M_r_kg;
+    donor.push_back(l);
+  }
+  return donor;
+}
+
+std::vector<double> taken_mass(const RobotDescription& r, const PlantOptions& o) {
+  std::vector<double> taken(r.links.size(), 0.0);
+  const std::vector<int> donor = housing_donors(r, o);
+  for (std::size_t k = 0; k < donor.size(); ++k)
+    if (donor[k] >= 0) taken[static_cast<std::size_t>(donor[k])] += o.actuators[k].M_r_kg;
+  return taken;
+}
+
+// Hunt-Crossley joint stop (Simbody's MobilityLinearStop law): torque, and its
+// negative derivatives with respect to q and qdot.
+struct StopTorque {
+  double tau = 0, k = 0, d = 0, energy = 0;
+};
+StopTorque stop_torque(double q, double qd, double lo, double hi, double k, double d) {
+  StopTorque s;
+  const double x = q > hi ? q - hi : (q < lo ? lo - q : 0.0);
+  if (x <= 0) return s;
+  const double sign = q > hi ? -1.0 : 1.0;  // pushes back into the range
+  const double xdot = -sign * qd;           // penetration rate
+  const double f = k * x * (1 + d * xdot);
+  s.energy = 0.5 * k * x * x;
+  if (f <= 0) return s;
+  s.tau = sign * f;
+  s.k = k * (1 + d * xdot);
+  s.d = k * d * x;
+  return s;
+}
+
+}  // namespace
+
+PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
+    : kernel_(r, o.base, o.X_WB, o.gravity_m_s2, taken_mass(r, o)), opt_(o), acts_(o.actuators) {
+  ntq_ = kernel_.nq();
+  ntv_ = kernel_.nv();
+  na_ = static_cast<int>(acts_.size());
+  const int nj = num_joints();
+  act_of_joint_.assign(static_cast<std::size_t>(nj), -1);
+  const std::vector<int> donor = housing_donors(r, o);
+  for (int k = 0; k < na_; ++k) {
+    const ActuatorParams& p = acts_[static_cast<std::size_t>(k)];
+    int c = -1;
+    for (int j = 0; j < nj; ++j)
+      if (kernel_.joint_names()[static_cast<std::size_t>(j)] == p.joint) c = j;
+    if (c < 0) throw ModelError(r.source + ": actuated joint '" + p.joint + "' has no coordinate (fixed or welded)");
+    if (act_of_joint_[static_cast<std::size_t>(c)] >= 0) throw ModelError(r.source + ": two actuators drive joint '" + p.joint + "'");
+    act_of_joint_[static_cast<std::size_t>(c)] = k;
+    act_joint_.push_back(c);
+    const int l = donor[static_cast<std::size_t>(k)];
+    if (l < 0) continue;
+    housings_.push_back({k, kernel_.body_of_link(l), r.links[static_cast<std::size_t>(l)].com_m, Eigen::Vector3d::UnitZ(), p.M_r_kg});
+    housing_mass_ += p.M_r_kg;
+  }
+  for (int j = 0; j < nj; ++j) {
+    const Joint& jt = r.joints[static_cast<std::size_t>(kernel_.joint_description_index()[static_cast<std::size_t>(j)])];
+    JointStop s{j, o.joint_limits && jt.has_limits && jt.type != JointType::Continuous, jt.lower, jt.upper,
+                o.joint_damping ? jt.damping : 0.0};
+    if (s.limited || s.damping > 0) stops_.push_back(s);
+  }
+  if (o.contact)
+    for (std::size_t l = 0; l < r.links.size(); ++l)
+      for (const Shape& sh : r.links[l].collisions)
+        if (sh.geometry.kind == Geometry::Kind::Sphere)
+          spheres_.push_back({static_cast<int>(l), kernel_.body_of_link(static_cast<int>(l)),
+                              Eigen::Vector3d(sh.X_LG.translation()), sh.geometry.radius_m});
+  anchors.assign(spheres_.size(), SphereAnchor{});
+  currents = Eigen::VectorXd::Zero(na_);
+  joint_torques = Eigen::VectorXd::Zero(nj);
+  external.reserve(16);
+  Q_ = Eigen::VectorXd::Zero(nq());
+  V_ = Eigen::VectorXd::Zero(nv());
+  A_ = Eigen::MatrixXd::Zero(nv(), nv());
+  r_ = kv_ = Eigen::VectorXd::Zero(nv());
+  c_tree_ = Eigen::VectorXd::Zero(ntv_);
+  G_ = WG_ = Eigen::Matrix3Xd::Zero(3, nv());
+  idx_.reserve(static_cast<std::size_t>(nv()));
+}
+
+void PlantDynamics::set_state(const Eigen::Ref<const Eigen::VectorXd>& Q, const Eigen::Ref<const Eigen::VectorXd>& V) {
+  Q_ = Q;
+  V_ = V;
+  kernel_.set_q(Q_.head(ntq_));
+  kernel_.set_v(V_.head(ntv_));
+}
+
+Eigen::Vector3d PlantDynamics::world_point(int body, const Eigen::Vector3d& p_B) const {
+  return kernel_.origin(body) + kernel_.rotation(body) * p_B;
+}
+
+void PlantDynamics::assemble(double h) {
+  A_.setZero();
+  r_.setZero();
+  kv_.setZero();
+  add_tree();
+  add_joint_terms(h);
+  add_actuators(h);
+  add_housings();
+  add_contacts(h);
+  add_external();
+}
+
+void PlantDynamics::add_tree() {
+  kernel_.mass_matrix(A_.topLeftCorner(ntv_, ntv_));
+  kernel_.coriolis_and_gravity(c_tree_);
+  r_.head(ntv_) = -c_tree_;
+}
+
+void PlantDynamics::add_joint_terms(double h) {
+  for (int j = 0; j < num_joints(); ++j) r_[joint_v(j)] += joint_torques[j];
+  for (const JointStop& s : stops_) {
+    const int iq = joint_q(s.joint), iv = joint_v(s.joint);
+    const double q = Q_[iq], qd = V_[iv];
+    double tau = -s.damping * qd, k = 0, d = s.damping;
+    if (s.limited) {
+      const StopTorque st = stop_torque(q, qd, s.lower, s.upper, opt_.limit_stiffness_Nm_per_rad, opt_.limit_dissipation_s_per_rad);
+      tau += st.tau;
+      k += st.k;
+      d += st.d;
+    }
+    r_[iv] += tau;
+    A_(iv, iv) += h * d + h * h * k;
+    kv_[iv] += k * qd;
+  }
+}
+
+void PlantDynamics::add_actuators(double h) {
+  for (int k = 0; k < na_; ++k) {
+    const int c = act_joint_[static_cast<std::size_t>(k)];
+    const int iq = joint_q(c), iv = joint_v(c), is = ntv_ + k;
+    const double qd = V_[iv], sd = V_[is];
+    const ActuatorTerms t = actuator_terms(acts_[static_cast<std::size_t>(k)], Q_[iq], qd, Q_[ntq_ + k], sd, currents[k]);
+    const int idx[2] = {iv, is};
+    const Eigen::Matrix2d W = t.M + h * t.D + h * h * t.K;
+    const Eigen::Vector2d kv = t.K * Eigen::Vector2d(qd, sd);
+    for (int a = 0; a < 2; ++a) {
+      r_[idx[a]] += t.f[a];
+      kv_[idx[a]] += kv[a];
+      for (int b = 0; b < 2; ++b) A_(idx[a], idx[b]) += W(a, b);
+    }
+  }
+}
+
+// The housing at p_h = P + s u (P, u fixed in the donor body): its Jacobian over the
+// tree is the body point Jacobian at p_h, over s it is u; its bias acceleration is the
+// body point's plus the sliding Coriolis term 2 s' (omega x u).
+void PlantDynamics::add_housings() {
+  const Eigen::Vector3d g(0, 0, -opt_.gravity_m_s2);
+  for (const HousingMass& hm : housings_) {
+    const double s = Q_[ntq_ + hm.actuator], sd = V_[ntv_ + hm.actuator];
+    const Eigen::Vector3d u = kernel_.rotation(hm.body) * hm.u_B;
+    const Eigen::Vector3d p = world_point(hm.body, hm.p_B) + s * u;
+    const std::vector<int>& mob = kernel_.body_mobilities(hm.body);
+    const int m = static_cast<int>(mob.size());
+    kernel_.point_jacobian_columns(hm.body, p, G_.leftCols(m));
+    G_.col(m) = u;
+    idx_.assign(mob.begin(), mob.end());
+    idx_.push_back(ntv_ + hm.actuator);
+    const Eigen::Vector3d a = kernel_.point_bias_acceleration(hm.body, p) + 2 * sd * kernel_.angular_velocity(hm.body).cross(u);
+    add_point_term(idx_, m + 1, hm.mass_kg * (g - a), hm.mass_kg * Eigen::Matrix3d::Identity());
+  }
+}
+
+void PlantDynamics::add_contacts(double h) {
+  for (std::size_t i = 0; i < spheres_.size(); ++i) {
+    const ContactSphere& sp = spheres_[i];
+    const Eigen::Vector3d center = world_point(sp.body, sp.center_B);
+    const double pen = sp.radius_m - center.z();
+    if (!(pen > 0)) continue;
+    const Eigen::Vector3d p = center - sp.radius_m * Eigen::Vector3d::UnitZ();
+    const std::vector<int>& mob = kernel_.body_mobilities(sp.body);
+    const int m = static_cast<int>(mob.size());
+    kernel_.point_jacobian_columns(sp.body, p, G_.leftCols(m));
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    for (int c = 0; c < m; ++c) v += G_.col(c) * V_[mob[static_cast<std::size_t>(c)]];
+    const Eigen::Vector2d offset = anchors[i].active ? Eigen::Vector2d(p.head<2>() - anchors[i].anchor) : Eigen::Vector2d::Zero();
+    const SphereContact sc = sphere_contact(opt_.contact_params, sp.radius_m, pen, v, offset);
+    add_point_term(mob, m, sc.force_W, h * sc.D + h * h * sc.K, &sc.K, &v);
+  }
+}
+
+void PlantDynamics::add_external() {
+  for (const PointForce& f : external) {
+    const std::vector<int>& mob = kernel_.body_mobilities(f.body);
+    const int m = static_cast<int>(mob.size());
+    kernel_.point_jacobian_columns(f.body, world_point(f.body, f.p_B), G_.leftCols(m));
+    add_point_term(mob, m, f.f_W, Eigen::Matrix3d::Zero());
+  }
+}
+
+void PlantDynamics::add_point_term(const std::vector<int>& idx, int cols, const Eigen::Vector3d& f, const Eigen::Matrix3d& W,
+                                   const Eigen::Matrix3d* K, const Eigen::Vector3d* Gv) {
+  const auto G = G_.leftCols(cols);
+  for (int a = 0; a < cols; ++a) r_[idx[static_cast<std::size_t>(a)]] += G.col(a).dot(f);
+  if (K && Gv) {
+    const Eigen::Vector3d kf = *K * *Gv;
+    for (int a = 0; a < cols; ++a) kv_[idx[static_cast<std::size_t>(a)]] += G.col(a).dot(kf);
+  }
+  if (W.isZero(0)) return;
+  WG_.leftCols(cols).noalias() = W * G;
+  for (int a = 0; a < cols; ++a)
+    for (int b = 0; b < cols; ++b) A_(idx[static_cast<std::size_t>(a)], idx[static_cast<std::size_t>(b)]) += G.col(a).dot(WG_.col(b));
+}
+
+SphereContact PlantDynamics::sphere_contact_now(int sphere, Eigen::Vector3d* p_W) const {
+  const ContactSphere& sp = spheres_[static_cast<std::size_t>(sphere)];
+  const Eigen::Vector3d center = world_point(sp.body, sp.center_B);
+  const Eigen::Vector3d p = center - sp.radius_m * Eigen::Vector3d::UnitZ();
+  if (p_W) *p_W = p;
+  const SphereAnchor& an = anchors[static_cast<std::size_t>(sphere)];
+  const Eigen::Vector2d offset = an.active ? Eigen::Vector2d(p.head<2>() - an.anchor) : Eigen::Vector2d::Zero();
+  return sphere_contact(opt_.contact_params, sp.radius_m, sp.radius_m - center.z(), kernel_.point_velocity(sp.body, p), offset);
+}
+
+void PlantDynamics::update_anchors() {
+  for (std::size_t i = 0; i < spheres_.size(); ++i) {
+    Eigen::Vector3d p;
+    const SphereContact sc = sphere_contact_now(static_cast<int>(i), &p);
+    SphereAnchor& an = anchors[i];
+    if (!sc.touching) {
+      an.active = false;
+    } else if (!an.active) {
+      an.active = true;
+      an.anchor = p.head<2>();
+    } else {
+      an.anchor = p.head<2>() - slide_anchor(opt_.contact_params, sc.normal_force_N, p.head<2>() - an.anchor);
+    }
+  }
+}
+
+Eigen::Vector3d PlantDynamics::housing_moment() const {
+  Eigen::Vector3d h = Eigen::Vector3d::Zero();
+  for (const HousingMass& hm : housings_) {
+    const double s = Q_[ntq_ + hm.actuator];
+    h += hm.mass_kg * (world_point(hm.body, hm.p_B) + s * (kernel_.rotation(hm.body) * hm.u_B));
+  }
+  return h;
+}
+
+double PlantDynamics::kinetic_energy() {
+  assemble(0.0);
+  return 0.5 * V_.dot(A_ * V_);
+}
+
+double PlantDynamics::potential_energy() const {
+  double e = kernel_.gravity_potential();
+  for (const HousingMass& hm : housings_) {
+    const double s = Q_[ntq_ + hm.actuator];
+    const Eigen::Vector3d p = world_point(hm.body, hm.p_B) + s * (kernel_.rotation(hm.body) * hm.u_B);
+    e += hm.mass_kg * opt_.gravity_m_s2 * p.z();
+  }
+  for (int k = 0; k < na_; ++k) e += actuator_potential_energy(acts_[static_cast<std::size_t>(k)], Q_[ntq_ + k]);
+  for (std::size_t i = 0; i < spheres_.size(); ++i) e += sphere_contact_now(static_cast<int>(i)).potential_J;
+  for (const JointStop& s : stops_)
+    if (s.limited)
+      e += stop_torque(Q_[joint_q(s.joint)], 0.0, s.lower, s.upper, opt_.limit_stiffness_Nm_per_rad, 0.0).energy;
+  return e;
+}
+
+}  // namespace dmbd::model::detail

@@ -1,0 +1,132 @@
+#pragma once
+// Internal to model/: the plant's equations of motion in generalized coordinates
+//   Q = [q (tree), s (one spring deflection per actuator)],  V = [v (tree), s'],
+//   M(Q) V' = f(Q, V, t) - c(Q, V),
+// and their stiff parts for the fixed stepper. Terms (docs/model.md, section 6):
+//   - the tree (TreeKernel: mass matrix, Coriolis and gravity);
+//   - each actuator's rotor, motor, dampers and elastomer (actuator_terms.hpp);
+//   - each RFSEA housing: a point mass M_r at the donor link's centre of mass, moved
+//     by s along the link's z axis (the leg's long axis): exact point-mass terms
+//     M_r J_h^T J_h and M_r J_h^T (g - Jdot_h V) with its Jacobian J_h over (tree, s);
+//   - URDF joint limits (Hunt-Crossley stops) and joint damping;
+//   - sphere/ground contact (contact.hpp) and external point forces; input joint torques.
+// assemble(h) writes A = M + h D + h^2 K, r = f - c and kv = K V, where K and D are the
+// stiff forces' negative position and velocity derivatives (h = 0: A = M).
+// Nothing here allocates after construction.
+#include "contact.hpp"
+#include "tree_kernel.hpp"
+
+#include "dmbd/model/plant.hpp"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace dmbd::model::detail {
+
+struct HousingMass {
+  int actuator = -1;
+  int body = -1;                 // donor link's body
+  Eigen::Vector3d p_B, u_B;      // point (the donor's CoM) and slide axis in the body frame
+  double mass_kg = 0;
+};
+
+struct ContactSphere {
+  int link = -1, body = -1;
+  Eigen::Vector3d center_B;
+  double radius_m = 0;
+};
+
+struct SphereAnchor {
+  bool active = false;
+  Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // on the ground (x, y)
+};
+
+struct PointForce {
+  int body = -1;
+  Eigen::Vector3d p_B = Eigen::Vector3d::Zero();
+  Eigen::Vector3d f_W = Eigen::Vector3d::Zero();
+};
+
+struct JointStop {
+  int joint = -1;                // joint coordinate
+  bool limited = false;
+  double lower = 0, upper = 0, damping = 0;
+};
+
+class PlantDynamics {
+ public:
+  PlantDynamics(const RobotDescription& robot, const PlantOptions& options);
+
+  const TreeKernel& kernel() const { return kernel_; }
+  int nq() const { return ntq_ + na_; }
+  int nv() const { return ntv_ + na_; }
+  int tree_nq() const { return ntq_; }
+  int tree_nv() const { return ntv_; }
+  int num_actuators() const { return na_; }
+  int num_joints() const { return static_cast<int>(kernel_.joint_names().size()); }
+  const ActuatorParams& actuator(int k) const { return acts_[static_cast<std::size_t>(k)]; }
+  int actuator_joint(int k) const { return act_joint_[static_cast<std::size_t>(k)]; }  // joint coordinate
+  int actuator_of_joint(int joint) const { return act_of_joint_[static_cast<std::size_t>(joint)]; }
+  int joint_q(int joint) const { return kernel_.joint_q(joint); }
+  int joint_v(int joint) const { return kernel_.joint_v(joint); }
+  const std::vector<ContactSphere>& spheres() const { return spheres_; }
+  double total_mass_kg() const { return kernel_.total_mass_kg() + housing_mass_; }
+
+  // The state the terms are evaluated at.
+  void set_state(const Eigen::Ref<const Eigen::VectorXd>& Q, const Eigen::Ref<const Eigen::VectorXd>& V);
+  const Eigen::VectorXd& Q() const { return Q_; }
+  const Eigen::VectorXd& V() const { return V_; }
+
+  // Inputs, held by the caller's choice.
+  Eigen::VectorXd currents;                // applied (clamped), per actuator
+  Eigen::VectorXd joint_torques;           // per joint coordinate
+  std::vector<PointForce> external;        // reserved: no allocation for a few forces
+  std::vector<SphereAnchor> anchors;       // per sphere
+
+  void assemble(double h);
+  const Eigen::MatrixXd& A() const { return A_; }
+  const Eigen::VectorXd& r() const { return r_; }
+  const Eigen::VectorXd& kv() const { return kv_; }
+
+  // Friction anchors after a step (the return map at the current state).
+  void update_anchors();
+  // A sphere's contact at the current state (anchors unchanged), and its contact point.
+  SphereContact sphere_contact_now(int sphere, Eigen::Vector3d* p_W = nullptr) const;
+  // Point of a body in world at the current state.
+  Eigen::Vector3d world_point(int body, const Eigen::Vector3d& p_B) const;
+
+  Eigen::Vector3d housing_moment() const;  // sum of the housings' M_r p_h (kg m)
+  double kinetic_energy();                 // 1/2 V^T M V (assembles)
+  double potential_energy() const;         // gravity, springs, contact, limits
+
+ private:
+  void add_tree();
+  void add_joint_terms(double h);
+  void add_actuators(double h);
+  void add_housings();
+  void add_contacts(double h);
+  void add_external();
+  // A(idx, idx) += G^T W G, r(idx) += G^T f, kv(idx) += G^T k (G V) for a point term whose
+  // Jacobian has the columns `idx` (G is 3 x idx.size()).
+  void add_point_term(const std::vector<int>& idx, int cols, const Eigen::Vector3d& f, const Eigen::Matrix3d& W,
+                      const Eigen::Matrix3d* K = nullptr, const Eigen::Vector3d* Gv = nullptr);
+
+  TreeKernel kernel_;
+  PlantOptions opt_;
+  std::vector<ActuatorParams> acts_;
+  std::vector<int> act_joint_, act_of_joint_;
+  std::vector<HousingMass> housings_;
+  std::vector<ContactSphere> spheres_;
+  std::vector<JointStop> stops_;
+  double housing_mass_ = 0;
+  int ntq_ = 0, ntv_ = 0, na_ = 0;
+  Eigen::VectorXd Q_, V_;
+  Eigen::MatrixXd A_;
+  Eigen::VectorXd r_, kv_, c_tree_;
+  Eigen::Matrix3Xd G_, WG_;                // scratch: compact point Jacobian, W times it
+  std::vector<int> idx_;                   // scratch: columns of a point term
+};
+
+}  // namespace dmbd::model::detail

@@ -1,0 +1,100 @@
+// No heap allocation in a fixed simulation step or in a controller's dynamics update
+// after warm-up (issue 12). The C allocator is interposed in this executable to
+// count allocations (malloc, calloc, realloc: what operator new, Eigen and Simbody all
+// use). Simbody's calcM, for one, allocates 52 blocks a call, which this test would catch.
+#include "dmbd/model/dynamics.hpp"
+#include "dmbd/model/plant.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+
+// Every heap allocation of the process goes through malloc (operator new, Eigen's
+// aligned_malloc, Simbody's containers): glibc lets an executable interpose it.
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+}
+
+namespace {
+std::atomic<long> g_allocations{0};
+}
+
+extern "C" {
+void* malloc(std::size_t n) {
+  ++g_allocations;
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t m) {
+  ++g_allocations;
+  return __libc_calloc(n, m);
+}
+void* realloc(void* p, std::size_t n) {
+  ++g_allocations;
+  return __libc_realloc(p, n);
+}
+}
+
+namespace dmbd::model {
+namespace {
+
+const RobotDescription& draco() {
+  static const RobotDescription r = load_urdf(DMBD_DRACO_DIR "/draco.urdf", UrdfOptions{{}, false, false});
+  return r;
+}
+
+TEST(NoAllocation, FixedStepOfTheRobotStandingOnItsActuators) {
+  PlantOptions o;
+  o.actuators = draco_actuators();
+  o.integration = Integration::Fixed;
+  o.step_s = 5e-4;
+  Plant p(draco(), o);
+  Eigen::VectorXd i = Eigen::VectorXd::Constant(p.num_actuators(), 0.5);
+  p.set_currents(i);
+  p.set_external_force(0, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 40, 0));
+  p.advance_to(0.01);  // warm-up: contacts engage, odeint and Eigen buffers exist
+  const long before = g_allocations.load();
+  for (int k = 2; k <= 200; ++k) {
+    i[k % p.num_actuators()] = 0.01 * k;
+    p.set_currents(i);  // inputs change every millisecond, as under a controller
+    p.advance_to(0.005 * k);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 398 fixed steps";
+  EXPECT_GT(p.integrator_steps(), 390);
+  // The counter sees allocations made inside the library: a reading that returns a vector.
+  const long b = g_allocations.load();
+  EXPECT_EQ(p.joint_positions().size(), 10);
+  EXPECT_GT(g_allocations.load() - b, 0);
+}
+
+TEST(NoAllocation, ControllerUpdateOfRobotDynamics) {
+  RobotDynamics d(draco());
+  const int nq = d.nq(), nv = d.nv();
+  Eigen::VectorXd q = d.neutral_configuration(), v = Eigen::VectorXd::Constant(nv, 0.1), bg(nv);
+  Eigen::MatrixXd A(nv, nv), Jl(6, nv), Jr(6, nv), Jc(3, nv);
+  const int lf = d.link_index("l_foot"), rf = d.link_index("r_foot");
+  ASSERT_GE(lf, 0);
+  ASSERT_GE(rf, 0);
+  auto update = [&](double s) {
+    q[nq - 1] = s;
+    d.set_state(q, v);
+    d.mass_matrix(A);
+    d.coriolis_and_gravity(bg);
+    d.frame_jacobian(lf, Eigen::Vector3d::Zero(), Jl);
+    d.frame_jacobian(rf, Eigen::Vector3d::Zero(), Jr);
+    const auto al = d.frame_jacobian_dot_v(lf, Eigen::Vector3d::Zero());
+    const auto ar = d.frame_jacobian_dot_v(rf, Eigen::Vector3d::Zero());
+    d.com_jacobian(Jc);
+    return al.sum() + ar.sum() + d.com_jacobian_dot_v().sum() + d.com_position().sum();
+  };
+  double sink = update(0.0);
+  const long before = g_allocations.load();
+  for (int k = 0; k < 100; ++k) sink += update(0.001 * k);
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 100 controller updates";
+  EXPECT_TRUE(std::isfinite(sink));
+}
+
+}  // namespace
+}  // namespace dmbd::model
