@@ -7,11 +7,11 @@
 //
 // Variants: ideal joint torques (Euler and implicit integrators) and the ten VLCAs as
 // elastic joints driven by currents (Euler).
-// Engines: MuJoCo (mujoco_draco.cpp; skipped with a note when MuJoCo was not found). The
-// project's own simulator joins as one more register_engine("Dmbd", ...) call in main():
-// a function with run_mujoco_standing's signature that runs the same StandingTask.
+// Engines: MuJoCo (mujoco_draco.cpp; skipped with a note when MuJoCo was not found) and
+// the project's own plant with its fixed step of 1 ms and 0.5 ms (dmbd_standing.cpp).
 //
 // --write_mjcf=DIR writes the generated MuJoCo models to DIR/draco_mujoco_{ideal,elastic}.xml.
+#include "dmbd_standing.hpp"
 #include "mujoco_draco.hpp"
 #include "standing_task.hpp"
 
@@ -156,7 +156,10 @@ int main(int argc, char** argv) {
     register_engine("Mujoco", dmbd::bench::run_mujoco_standing);
   else
     std::printf("%s\n", dmbd::bench::kMujocoMissing);
-  // The project's simulator, side by side: register_engine("Dmbd", run_dmbd_standing);
+  // The project's simulator, side by side: its fixed step at the task's 1 ms and at the
+  // 0.5 ms the shipped scenarios use.
+  register_engine("Dmbd", dmbd::bench::run_dmbd_standing_1ms);
+  register_engine("Dmbd05", dmbd::bench::run_dmbd_standing_05ms);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   if (!g_engines.empty()) benchmark::RunSpecifiedBenchmarks();
