@@ -66,7 +66,7 @@ struct Plant::Impl {
         radius = sp.radius_m;
       }
     const double sink = detail::hertz_sinkage(dyn.total_mass_kg() * opt.gravity_m_s2 / touching, radius, opt.contact_params.stiffness_Pa);
-    Eigen::Isometry3d X = opt.X_WB;
+    Eigen::Isometry3d X = dyn.kernel().pose(root_body());
     X.translation().z() += -lowest - sink;
     dyn.kernel().set_base_pose(Q.head(dyn.tree_nq()), X);
   }
@@ -120,6 +120,11 @@ void Plant::reset() {
   for (auto& a : m.dyn.anchors) a = detail::SphereAnchor{};
   m.place_on_ground();
   m.sync();
+}
+
+void Plant::place_on_ground() {
+  impl_->place_on_ground();
+  impl_->sync();
 }
 
 void Plant::set_joint_positions(const Eigen::VectorXd& q) { impl_->set_joints(q, false, "set_joint_positions"); }

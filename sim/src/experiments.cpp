@@ -196,6 +196,45 @@ ExperimentResult thermal(const Scenario& s, const std::vector<VariantResult>& ru
   return res;
 }
 
+// ---------------------------------------------------------------- standing
+// A floating robot standing (and pushed): from the logged torso pose, per variant,
+// fell (the torso dropped more than 0.2 m below its start or tilted beyond 0.5 rad),
+// the largest tilt, the largest drop, and the tilt at the end (the push recovered).
+ExperimentResult standing(const Scenario& s, const std::vector<VariantResult>& runs) {
+  constexpr double kFallDrop = 0.2, kFallTilt = 0.5;
+  ExperimentResult res;
+  viz::Figure fig(1200, 900);
+  fig.title = "Standing: torso tilt, height and lateral position";
+  auto& tilt = fig.add_axes();
+  tilt.y_label = "Tilt (rad)";
+  tilt.x_tick_labels = false;
+  auto& height = fig.add_axes();
+  height.y_label = "Torso height (m)";
+  height.x_tick_labels = false;
+  auto& lateral = fig.add_axes();
+  lateral.x_label = "Time (s)";
+  lateral.y_label = "Torso y (m)";
+  for (const auto& r : runs) {
+    const auto& t = r.log.time();
+    const auto& tl = signal(r, "base.tilt", s.file);
+    const auto& z = signal(r, "base.z", s.file);
+    const double max_tilt = *std::max_element(tl.begin(), tl.end());
+    const double drop = z.front() - *std::min_element(z.begin(), z.end());
+    nlohmann::json& m = runs.size() > 1 ? nest(res.metrics["standing"], r) : res.metrics["standing"];
+    m["fell"] = drop > kFallDrop || max_tilt > kFallTilt;
+    m["max_tilt_rad"] = max_tilt;
+    m["torso_height_drop_m"] = drop;
+    m["final_tilt_rad"] = tl.back();
+    const std::string label = runs.size() > 1 ? r.name : "torso";
+    tilt.series.push_back({label, t, tl});
+    height.series.push_back({label, t, z});
+    lateral.series.push_back({label, t, signal(r, "base.y", s.file)});
+  }
+  res.figures.emplace_back("standing.png", fig);
+  res.notes.push_back(fmt::format("fell: the torso dropped more than {} m below its start or tilted beyond {} rad.", kFallDrop, kFallTilt));
+  return res;
+}
+
 }  // namespace
 
 StepMetrics step_metrics(const std::vector<double>& t, const std::vector<double>& r, const std::vector<double>& y, double t_step,
@@ -246,6 +285,7 @@ ExperimentResult evaluate_experiment(const Scenario& s, const std::vector<Varian
   else if (type == "force_tracking") res = force_tracking(s, runs);
   else if (type == "thermal") res = thermal(s, runs);
   else if (type == "sysid_rfsea") res = sysid_rfsea(s, runs);
+  else if (type == "standing") res = standing(s, runs);
   // The scenario's own plots: "signal" (every variant) or "variant:signal".
   for (const auto& p : s.plots) {
     viz::Figure fig(1200, 600);

@@ -260,6 +260,20 @@ struct Reader {
     return c;
   }
 
+  void integration(const YAML::Node& n, IntegrationSetup& in) const {
+    keys(n, "integration", {"mode", "step_s", "accuracy"});
+    if (n["mode"]) {
+      const std::string m = text(n["mode"], "integration.mode");
+      if (m == "fixed") in.mode = model::Integration::Fixed;
+      else if (m == "accurate") in.mode = model::Integration::Accurate;
+      else fail(n["mode"], "integration.mode: expected fixed or accurate, got '" + m + "'");
+    }
+    if (n["step_s"]) in.step_s = positive(n["step_s"], "integration.step_s");
+    if (n["accuracy"]) in.accuracy = positive(n["accuracy"], "integration.accuracy");
+    if (in.step_s > 0.01) fail(n["step_s"], "integration.step_s: " + fmt::format("{}", in.step_s) + " s is longer than 10 ms (expected 0.1 to 2 ms)");
+    if (in.accuracy >= 0.1) fail(n["accuracy"], "integration.accuracy: " + fmt::format("{}", in.accuracy) + " is not a small relative accuracy (expected 1e-8 to 1e-3)");
+  }
+
   // Fields a variant may override (everything but frames, plots, experiment).
   void variant_fields(const YAML::Node& n, VariantSetup& v) const {
     if (n["robot"]) robot(n["robot"], v.robot);
@@ -297,6 +311,7 @@ struct Reader {
       if (s["seed"]) v.seed = static_cast<uint64_t>(number(s["seed"], "sensors.seed"));
       if (s["force_noise_N"]) v.force_noise_N = number(s["force_noise_N"], "sensors.force_noise_N");
     }
+    if (n["integration"]) integration(n["integration"], v.integration);
     if (n["thermal"]) {
       const YAML::Node t = n["thermal"];
       keys(t, "thermal", {"cooling"});
@@ -311,7 +326,7 @@ struct Reader {
 };
 
 const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "controllers", "references", "forces", "duration_s",
-                                                         "log_rate_hz", "sensors", "thermal"};
+                                                         "log_rate_hz", "sensors", "thermal", "integration"};
 
 }  // namespace
 
@@ -328,7 +343,7 @@ Scenario load_scenario(const std::string& path) {
   Reader rd{path, fs::path(path).parent_path().string()};
   if (!root.IsMap()) throw InputError(path + ":1:1: a scenario is a map (name, robot, controllers, ...)");
   rd.keys(root, "scenario", {"name", "description", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz",
-                             "sensors", "thermal", "frames", "plots", "variants", "matrix", "experiment"});
+                             "sensors", "thermal", "integration", "frames", "plots", "variants", "matrix", "experiment"});
   Scenario s;
   s.file = path;
   s.name = root["name"] ? rd.text(root["name"], "name") : fs::path(path).stem().string();
@@ -415,9 +430,9 @@ Scenario load_scenario(const std::string& path) {
     const YAML::Node e = root["experiment"];
     if (!e.IsMap() || !e["type"]) rd.fail(e, "experiment: expected a map with 'type'");
     s.experiment.type = rd.text(e["type"], "experiment.type");
-    static const std::set<std::string> kTypes = {"sysid_rfsea", "force_tracking", "step_response", "thermal"};
+    static const std::set<std::string> kTypes = {"sysid_rfsea", "force_tracking", "step_response", "thermal", "standing"};
     if (!kTypes.count(s.experiment.type))
-      rd.fail(e["type"], "experiment.type: expected sysid_rfsea, force_tracking, step_response or thermal, got '" + s.experiment.type + "'");
+      rd.fail(e["type"], "experiment.type: expected sysid_rfsea, force_tracking, step_response, thermal or standing, got '" + s.experiment.type + "'");
     // The keys each analysis reads (experiments.cpp, sysid_experiment.cpp): a name
     // (true) or a number (false).
     static const std::map<std::string, std::map<std::string, bool>> kKeys = {
@@ -425,6 +440,7 @@ Scenario load_scenario(const std::string& path) {
          {{"reference", true}, {"output", true}, {"step_start_s", false}, {"step_end_s", false}, {"sine_start_s", false}, {"sine_end_s", false}}},
         {"force_tracking", {{"reference", true}, {"output", true}, {"start_s", false}, {"plot_window_s", false}}},
         {"thermal", {}},
+        {"standing", {}},
         {"sysid_rfsea",
          {{"lead_in_s", false}, {"locked_f0_hz", false}, {"locked_f1_hz", false}, {"free_f0_hz", false}, {"free_f1_hz", false}, {"frequencies", false}}},
     };
@@ -545,6 +561,9 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   po.X_WB = r.X_WB;
   po.gravity_m_s2 = r.gravity_m_s2;
   po.contact = r.contact;
+  po.integration = v.integration.mode;
+  po.step_s = v.integration.step_s;
+  po.accuracy = v.integration.accuracy;
   for (const auto& a : table) {
     const bool wanted = r.all_actuators || std::count(r.actuators.begin(), r.actuators.end(), a.joint);
     const int j = robot.joint_index(a.joint);
@@ -593,6 +612,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     q0[j] = q;
   }
   plant.set_joint_positions(q0);
+  plant.place_on_ground();  // a floating robot stands on its feet in its initial posture
   for (const auto& [n, q] : r.lock) {
     const int j = plant.joint_index(n);
     if (j < 0) throw InputError(where("lock:" + n) + ": robot.lock: '" + n + "' is not a moving joint");

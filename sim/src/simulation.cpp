@@ -79,6 +79,7 @@ struct Simulation::Impl {
   // Per joint and per actuator signal indices.
   int nj = 0, na = 0;
   std::vector<int> sig_q, sig_qd, sig_torque;
+  int sig_base = -1;  // floating base: x, y, z, roll, pitch, yaw, tilt from here on
   struct ActuatorIo {
     int joint = -1;
     int current = -1, q_enc = -1, q_pot = -1, force = -1, motor = -1, spring = -1;
@@ -119,6 +120,11 @@ struct Simulation::Impl {
       sig_qd.push_back(add(J + ".qd", "rad/s"));
     }
     for (int j = 0; j < nj; ++j) sig_torque.push_back(add(plant.joint_names()[static_cast<std::size_t>(j)] + ".torque", "N m"));
+    if (plant.options().base == model::BaseMode::Floating) {
+      sig_base = add("base.x", "m");
+      for (const char* n : {"base.y", "base.z"}) add(n, "m");
+      for (const char* n : {"base.roll", "base.pitch", "base.yaw", "base.tilt"}) add(n, "rad");
+    }
     for (int k = 0; k < na; ++k) {
       const model::ActuatorParams& a = plant.actuator(k);
       int joint = -1;
@@ -223,6 +229,16 @@ struct Simulation::Impl {
       bus[static_cast<std::size_t>(sig_q[static_cast<std::size_t>(j)])] = q[j];
       bus[static_cast<std::size_t>(sig_qd[static_cast<std::size_t>(j)])] = qd[j];
     }
+    if (sig_base >= 0) refresh_base();
+  }
+  // The torso's position and its roll, pitch, yaw (R = Rz(yaw) Ry(pitch) Rx(roll)) and
+  // tilt (the angle of its z axis from the vertical).
+  void refresh_base() {
+    const Eigen::Isometry3d X = plant.base_pose();
+    const Eigen::Matrix3d& R = X.linear();
+    const double v[7] = {X.translation().x(), X.translation().y(), X.translation().z(), std::atan2(R(2, 1), R(2, 2)),
+                         std::asin(std::clamp(-R(2, 0), -1.0, 1.0)), std::atan2(R(1, 0), R(0, 0)), std::acos(std::clamp(R(2, 2), -1.0, 1.0))};
+    for (int k = 0; k < 7; ++k) bus[static_cast<std::size_t>(sig_base + k)] = v[k];
   }
   void refresh_references(double t) {
     for (std::size_t r = 0; r < ref_sig.size(); ++r) bus[static_cast<std::size_t>(ref_sig[r])] = spec.references[r].source.value(t);

@@ -99,6 +99,10 @@ class Plant {
   void set_joint_positions(const Eigen::VectorXd& q);
   void set_joint_velocities(const Eigen::VectorXd& v);
   void set_base_pose(const Eigen::Isometry3d& X_WB);       // floating only
+  // Floating base with contact: moves the base vertically so that the lowest collision
+  // spheres sink by the static deflection of their share of the weight (reset() does this
+  // for the zero posture; call it after setting an initial posture). No-op otherwise.
+  void place_on_ground();
   void lock_joint(int joint, double q);                    // hold a joint (locked output)
   void unlock_joint(int joint);
 

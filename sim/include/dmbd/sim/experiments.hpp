@@ -8,6 +8,8 @@
 //   thermal         peak winding temperature with cooling on and off
 //   sysid_rfsea     RFSEA parameters identified from current chirps, locked and free
 //                   output (paper Fig. 5a), against the simulator's values
+//   standing        a floating robot standing (and pushed): fell, largest tilt, largest
+//                   torso drop, tilt at the end
 #include <string>
 #include <utility>
 #include <vector>

@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include "dmbd/model/dynamics.hpp"
+#include "dmbd/model/plant.hpp"
 #include "dmbd/sim/simulation.hpp"
 
 namespace dmbd::sim {
@@ -85,6 +86,14 @@ struct PlotSetup {
   std::vector<std::string> signals;            // "signal" or "variant:signal"
 };
 
+// How the plant is integrated (model::PlantOptions): error-controlled (accurate, for
+// identification and frequency responses) or the fixed semi-implicit step.
+struct IntegrationSetup {
+  model::Integration mode = model::Integration::Accurate;
+  double step_s = 5e-4;                        // fixed: the largest step
+  double accuracy = 1e-5;                      // accurate: relative accuracy
+};
+
 struct VariantSetup {
   std::string name;                            // "base" without variants
   std::vector<std::pair<std::string, std::string>> axes;  // matrix axis -> value name
@@ -98,10 +107,11 @@ struct VariantSetup {
   uint64_t seed = 1;
   double force_noise_N = 0;
   Cooling cooling = Cooling::On;
+  IntegrationSetup integration;
 };
 
 struct ExperimentSetup {
-  std::string type;                            // "", sysid_rfsea, force_tracking, step_response, thermal
+  std::string type;                            // "", sysid_rfsea, force_tracking, step_response, thermal, standing
   std::string joint = "l_knee";
   std::map<std::string, std::string> text;     // further string fields (signal names ...)
   std::map<std::string, double> number;        // further numeric fields (windows ...)

@@ -1,6 +1,6 @@
 #pragma once
-// Multi-rate co-simulation: the continuous Simbody plant (dmbd::model::Plant, integrated
-// with error control between events) and discrete controllers (loop programs run by
+// Multi-rate co-simulation: the continuous plant (dmbd::model::Plant, integrated between
+// events with error control or by its fixed step) and discrete controllers (loop programs run by
 // the codegen interpreters: the arithmetic of the generated code, in double, float or
 // fixed point) at their own rates, joined by a bus of named scalar signals.
 //
@@ -23,6 +23,10 @@
 //   J.q_pot                  joint angle from the potentiometer (noise, ADC, 1st-order filter)
 //   J.force                  sensed actuator force K_s x_s (elastomer encoder), N
 //   J.motor_angle, J.spring_deflection   encoder readings (rad, m)
+// and for a floating base (true values, after every plant advance):
+//   base.x, base.y, base.z   torso origin in world (m)
+//   base.roll, base.pitch, base.yaw   R = Rz(yaw) Ry(pitch) Rx(roll) (rad)
+//   base.tilt                angle of the torso's z axis from the vertical (rad)
 // plus every reference (its name) and every controller output (its bus name). Logged
 // only, per actuator: J.force_true (N), J.current_applied (A, after the drive's limit),
 // J.i2t (A^2 s, the integral of the applied current squared since t = 0: exact, the
