@@ -33,5 +33,6 @@ BENCHMARK_CAPTURE(scenario_rtf, sysid_knee, std::string("sysid_knee"))->Unit(ben
 BENCHMARK_CAPTURE(scenario_rtf, force_dob, std::string("force_dob"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(scenario_rtf, position_controllers, std::string("position_controllers"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(scenario_rtf, thermal, std::string("thermal"))->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(scenario_rtf, standing, std::string("standing"))->Unit(benchmark::kMillisecond)->Iterations(1);
 
 BENCHMARK_MAIN();

@@ -91,3 +91,48 @@ TEST(SimRmsError, SineOverWholePeriods) {
 }
 
 }  // namespace
+
+namespace {
+
+// A synthetic floating-base log: the torso at z0 - drop(t), tilting tilt(t).
+template <class Z, class Tilt>
+dmbd::sim::VariantResult torso_log(Z z, Tilt tilt, double t_end) {
+  dmbd::sim::VariantResult r;
+  r.name = "base";
+  for (const char* c : {"base.y", "base.z", "base.tilt"}) r.log.add_column(c, "");
+  for (int k = 0; k <= static_cast<int>(t_end * 100); ++k) {
+    const double t = k / 100.0;
+    r.log.begin_row(t);
+    r.log.set(1, 0.0);
+    r.log.set(2, z(t));
+    r.log.set(3, tilt(t));
+  }
+  return r;
+}
+
+dmbd::sim::Scenario standing_scenario() {
+  dmbd::sim::Scenario s;
+  s.file = "standing.yaml";
+  s.experiment.type = "standing";
+  return s;
+}
+
+// Issue 12's standing metrics: fell when the torso drops more than 0.2 m or tilts beyond
+// 0.5 rad; the largest tilt, the largest drop below the start, the tilt at the end.
+TEST(SimStandingMetrics, FellByDropOrTiltAndTheFiguresOfTheRun) {
+  const auto s = standing_scenario();
+  const auto stands = torso_log([](double t) { return 1.0 - 0.01 * std::sin(t); }, [](double t) { return 0.1 * std::exp(-t); }, 5);
+  auto m = dmbd::sim::evaluate_experiment(s, {stands}).metrics["standing"];
+  EXPECT_FALSE(m["fell"].get<bool>());
+  EXPECT_NEAR(m["max_tilt_rad"].get<double>(), 0.1, 1e-12);                 // at t = 0
+  EXPECT_NEAR(m["final_tilt_rad"].get<double>(), 0.1 * std::exp(-5.0), 1e-12);
+  EXPECT_NEAR(m["torso_height_drop_m"].get<double>(), 0.01, 1e-6);           // sin peaks at t = pi/2 (sampled at 1.57)
+  const auto sinks = torso_log([](double t) { return 1.0 - 0.05 * t; }, [](double) { return 0.0; }, 5);  // 0.25 m
+  EXPECT_TRUE(dmbd::sim::evaluate_experiment(s, {sinks}).metrics["standing"]["fell"].get<bool>());
+  const auto topples = torso_log([](double) { return 1.0; }, [](double t) { return 0.11 * t; }, 5);  // 0.55 rad
+  EXPECT_TRUE(dmbd::sim::evaluate_experiment(s, {topples}).metrics["standing"]["fell"].get<bool>());
+  const auto leans = torso_log([](double) { return 1.0; }, [](double t) { return 0.09 * t; }, 5);  // 0.45 rad
+  EXPECT_FALSE(dmbd::sim::evaluate_experiment(s, {leans}).metrics["standing"]["fell"].get<bool>());
+}
+
+}  // namespace
