@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -663,17 +664,23 @@ TEST(SimScenarioCli, SimulateWritesOutputsAndReportsErrorsOnOneLine) {
 
 // ------------------------------------------------------------------------- shipped scenarios
 
+// A shipped scenario of examples/scenarios/, run without frames into `dir`.
+dmbd::sim::ScenarioRunResult run_shipped(const TempDir& dir, const std::string& name,
+                                         std::optional<double> duration_s = std::nullopt) {
+  const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/" + name + ".yaml");
+  dmbd::sim::ScenarioRunOptions o;
+  o.frames = false;
+  o.duration_s = duration_s;
+  return dmbd::sim::run_scenario(s, dir.file("out"), o);
+}
+
 // Paper Fig. 5(b): the three position controllers on the knee (7.5 s scenario shortened
 // to its 0.3 rad step window, [0.5, 2.0] s). The paper's controllers are tuned for no
 // overshoot (2 % allowed: the quantised encoder and the noisy potentiometer), and the
 // encoder PD rises faster than the potentiometer PD (its filter and lower gains).
 TEST(SimShippedScenarios, PositionControllersStepResponse) {
   TempDir dir;
-  const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/position_controllers.yaml");
-  dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
-  o.duration_s = 2.0;
-  const auto r = dmbd::sim::run_scenario(s, dir.file("out"), o);
+  const auto r = run_shipped(dir, "position_controllers", 2.0);
   const auto& m = r.experiment.metrics["controllers"];
   for (const char* c : {"encoder", "potentiometer", "encoder_force"}) {
     ASSERT_TRUE(m.contains(c)) << c;
@@ -691,11 +698,7 @@ TEST(SimShippedScenarios, PositionControllersStepResponse) {
 // alone at every load (the plant's 90 % screw efficiency is unknown to both).
 TEST(SimShippedScenarios, ForceDobBeatsPdAtEveryLoad) {
   TempDir dir;
-  const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/force_dob.yaml");
-  dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
-  o.duration_s = 1.0;
-  const auto r = dmbd::sim::run_scenario(s, dir.file("out"), o);
+  const auto r = run_shipped(dir, "force_dob", 1.0);
   const auto& rms = r.experiment.metrics["rms_error_N"];
   for (const char* load : {"locked", "30000kg", "10000kg", "2953kg"}) {
     const double dob = rms["with_dob"][load].get<double>(), pd = rms["without_dob"][load].get<double>();
@@ -711,10 +714,7 @@ TEST(SimShippedScenarios, ForceDobBeatsPdAtEveryLoad) {
 // a real load and below the cooled continuous current.
 TEST(SimShippedScenarios, ThermalCoolingKeepsTheWindingBelow60C) {
   TempDir dir;
-  const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/thermal.yaml");
-  dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
-  const auto r = dmbd::sim::run_scenario(s, dir.file("out"), o);
+  const auto r = run_shipped(dir, "thermal");
   const auto& m = r.experiment.metrics;
   const double cooled = m["peak_winding_C"]["cooled"].get<double>(), uncooled = m["peak_winding_C"]["uncooled"].get<double>();
   const double rms = m["rms_current_A"].get<double>();
@@ -731,10 +731,7 @@ TEST(SimShippedScenarios, ThermalCoolingKeepsTheWindingBelow60C) {
 // and the torso barely sinks. Measured: max tilt 8.8 mrad, final 3.3 mrad, drop 1.1 mm.
 TEST(SimShippedScenarios, StandingOnTheActuatorsRecoversFromThePush) {
   TempDir dir;
-  const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/standing.yaml");
-  dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
-  const auto r = dmbd::sim::run_scenario(s, dir.file("out"), o);
+  const auto r = run_shipped(dir, "standing");
   const auto& m = r.experiment.metrics["standing"];
   std::printf("standing: fell %d, max tilt %.4f rad, final tilt %.4f rad, drop %.4f m\n", m["fell"].get<bool>(),
               m["max_tilt_rad"].get<double>(), m["final_tilt_rad"].get<double>(), m["torso_height_drop_m"].get<double>());
@@ -760,10 +757,7 @@ TEST(SimShippedScenarios, StandingOnTheActuatorsRecoversFromThePush) {
 // with their noise (issue 6); measured 0.08 % and 0.35 %.
 TEST(SimShippedScenarios, SysidRecoversTableI) {
   TempDir dir;
-  const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/sysid_knee.yaml");
-  dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
-  const auto r = dmbd::sim::run_scenario(s, dir.file("out"), o);
+  const auto r = run_shipped(dir, "sysid_knee");
   const auto& m = r.experiment.metrics;
   for (const char* p : {"J_m", "B_m", "M_r", "B_r", "K_r", "M_l", "B_l"}) {
     const double exact = m["rel_error"][p].get<double>(), noisy = m["noisy"]["rel_error"][p].get<double>();
