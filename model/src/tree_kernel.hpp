@@ -13,7 +13,7 @@
 // on Debian's Simbody 3.7 they allocate (52, 10 and several heap blocks per call), and
 // calcM and calcStationJacobian cost 13-20 us and 25-35 us on DRACO; a fixed time step
 // and a controller update must not allocate and have a ~50 us budget. Tests check every
-// term here against those Simbody operators (tests/model/test_tree_kernel.cpp).
+// term here against those Simbody operators (tests/model/test_kernel_tree.cpp).
 //
 // Coordinates are Simbody's, in mobilized-body order: for DRACO, q = [torso quaternion
 // w x y z, torso origin (world), joints], v = [torso angular velocity (world), torso

@@ -55,7 +55,7 @@ class RobotDynamics {
 
   // Sets the configuration and velocity every query below uses (quaternions are
   // normalised). Nothing is allocated here or in the out-parameter queries below: a
-  // controller calls them every tick (tests/model/test_dynamics_alloc.cpp).
+  // controller calls them every tick (tests/model/test_alloc_steps.cpp).
   void set_state(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v);
 
   // Out-parameter forms (sizes as stated; the caller preallocates).
