@@ -27,8 +27,12 @@ namespace dmbd::model::detail {
 struct ActuatorTerms {
   Eigen::Matrix2d M = Eigen::Matrix2d::Zero();   // added to the mass matrix over (q, s)
   Eigen::Vector2d f = Eigen::Vector2d::Zero();   // generalized force on (q, s), velocity products included
-  Eigen::Matrix2d D = Eigen::Matrix2d::Zero();   // -d f / d (q', s') (enters the implicit solve)
-  Eigen::Matrix2d K = Eigen::Matrix2d::Zero();   // -d f / d (q, s)   (enters the implicit solve)
+  // The parts of -df/d(q', s') and -df/d(q, s) that enter the fixed step's implicit solve:
+  // the dampers (B' a a^T, B_l r^2, B_s) and the elastomer (K_s on s), symmetric and
+  // positive semi-definite. Left out (explicit): the derivative of the velocity-product
+  // force, 2 J' r' q' a, and the geometric r'(q) terms of the forces along a.
+  Eigen::Matrix2d D = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d K = Eigen::Matrix2d::Zero();
 };
 
 // `current_A` is the applied (already clamped) current.

@@ -29,8 +29,11 @@ struct SphereContact {
   double penetration_m = 0;
   double normal_force_N = 0;
   Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  // on the robot at the contact point
-  Eigen::Matrix3d K = Eigen::Matrix3d::Zero();        // -d force / d position (implicit part)
-  Eigen::Matrix3d D = Eigen::Matrix3d::Zero();        // -d force / d velocity (implicit part)
+  // The diagonal parts of -d force / d position and -d force / d velocity that enter the
+  // implicit solve (dF_n/dx, k_t; d_n, d_t while sticking). Left out (explicit): the
+  // friction's dependence on the penetration through F_n, (f_t / F_n) dF_n/dx.
+  Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
   double potential_J = 0;                             // Hertz and tangential-spring energy
 };
 
