@@ -13,8 +13,11 @@
 #include <vector>
 
 #include "analyze.hpp"
+#include "diagram_picture.hpp"
 #include "model_cmd.hpp"
+#include "report_cmd.hpp"
 #include "simulate_cmd.hpp"
+#include "dmbd/base/file.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/frequency.hpp"
@@ -103,7 +106,7 @@ bool internally_stable(const b::StateSpace& ss) {
 void write_report(const nlohmann::json& r, const std::string& dir, const std::string& name) {
   const std::string base = (std::filesystem::path(dir) / (name + ".report")).string();
   const std::string js = r.dump(2) + "\n";
-  dmbd::viz::write_file_atomic(base + ".json", std::vector<unsigned char>(js.begin(), js.end()));
+  dmbd::write_file_atomic(base + ".json", std::vector<unsigned char>(js.begin(), js.end()));
   std::ostringstream md;
   md << "# " << name << ": code generation report\n\n"
      << "Generated from " << r["source"].get<std::string>() << " at " << r["rate_hz"].get<double>() << " Hz ("
@@ -183,7 +186,7 @@ void write_report(const nlohmann::json& r, const std::string& dir, const std::st
     }
   }
   const std::string text = md.str();
-  dmbd::viz::write_file_atomic(base + ".md", std::vector<unsigned char>(text.begin(), text.end()));
+  dmbd::write_file_atomic(base + ".md", std::vector<unsigned char>(text.begin(), text.end()));
 }
 
 int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given, const std::string& rate_text,
@@ -250,7 +253,7 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
   const std::string header = (std::filesystem::path(out_dir) / (program.name + ".hpp")).string();
   std::optional<cg::FixedProgram> fx;
   if (fixed) fx = cg::make_fixed(program, ranges, word_bits);
-  dmbd::viz::write_file_atomic(header, [&] {
+  dmbd::write_file_atomic(header, [&] {
     const std::string text = fixed ? cg::emit_fixed_header(program, *fx, {scalar, source}) : cg::emit_header(program, {scalar, source});
     return std::vector<unsigned char>(text.begin(), text.end());
   }());
@@ -722,6 +725,7 @@ int main(int argc, char** argv) {
 
   dmbd::apps::ModelCommand model_cmd(app);  // dmbd model info
   dmbd::apps::SimulateCommand simulate_cmd(app);  // dmbd simulate
+  dmbd::apps::ReportCommand report_cmd(app);      // dmbd report
 
   try {
     app.parse(argc, argv);
@@ -743,6 +747,7 @@ int main(int argc, char** argv) {
     if (*analyze) return run_analyze(an);
     if (model_cmd.selected()) return model_cmd.run();
     if (simulate_cmd.selected()) return simulate_cmd.run();
+    if (report_cmd.selected()) return report_cmd.run();
     if (*tune) {
       const b::ParameterMap params = parse_params(tn.params);
       const double overshoot = parse_number(tn.overshoot, "--max-overshoot");
@@ -790,7 +795,7 @@ int main(int argc, char** argv) {
       const b::ParameterMap params = parse_params(draw_params);
       if (fs_parent_missing(draw_out)) throw InputError("--out '" + draw_out + "': the folder does not exist");
       const auto d = dmbd::diagrams::Diagram::load(draw_file, params);
-      dmbd::viz::save_diagram_png(*d, draw_out);
+      dmbd::viz::save_diagram_png(dmbd::apps::diagram_picture(*d), draw_out);
       std::cout << "wrote " << draw_out << "\n";
       return 0;
     }

@@ -1,14 +1,19 @@
 #pragma once
 // `dmbd simulate SCENARIO.yaml --out DIR [--no-frames] [--duration S]`: runs a scenario
-// (docs/scenario-format.md) and writes log.csv, metrics.json, plots/, frames/,
-// video.mp4 and report.html into DIR. A bad scenario or a diverging simulation: one
-// line on stderr, exit code 2.
+// (docs/scenario-format.md), writing the run directory (log.csv, metrics.json: sim),
+// then its report (plots/, frames/, video.mp4, report.html: report/) into DIR. A bad
+// scenario or a diverging simulation: one line on stderr, exit code 2.
 #include <CLI/CLI.hpp>
 
 #include <optional>
 #include <string>
 
+#include "dmbd/report/report.hpp"
+
 namespace dmbd::apps {
+
+// The files a report wrote, one line each (frames as one line), and the page.
+void print_report(const report::ReportResult& r, const std::string& out);
 
 class SimulateCommand {
  public:

@@ -805,20 +805,6 @@ RobotDescription load_urdf(const std::string& path, const UrdfOptions& options) 
   return r;
 }
 
-std::vector<Eigen::Isometry3d> default_pose_link_frames(const RobotDescription& robot) {
-  std::vector<Eigen::Isometry3d> X_WL(robot.links.size(), Eigen::Isometry3d::Identity());
-  std::map<std::string, std::size_t> index;
-  for (std::size_t i = 0; i < robot.links.size(); ++i) index[robot.links[i].name] = i;
-  // Joints are parent-before-child: one pass. With every coordinate at zero the
-  // joint frame is the child frame for every joint type.
-  for (const Joint& j : robot.joints) {
-    const auto p = index.find(j.parent), c = index.find(j.child);
-    if (p == index.end() || c == index.end()) continue;
-    X_WL[c->second] = X_WL[p->second] * j.X_PJ;
-  }
-  return X_WL;
-}
-
 ModelSummary summarize(const RobotDescription& robot) {
   ModelSummary s;
   s.name = robot.name;

@@ -473,46 +473,9 @@ model::RobotDescription load_robot(const RobotSetup& r) {
   return model::load_urdf(path);
 }
 
-// Inertia of the links that move with a joint's child about the joint axis (kg m^2),
-// in the description's zero pose (rotation about the axis does not change it; the
-// joints below are taken at their current (frozen) positions).
-double subtree_axis_inertia(const model::RobotDescription& robot, int joint) {
-  const auto X = model::default_pose_link_frames(robot);
-  const model::Joint& J = robot.joints[static_cast<std::size_t>(joint)];
-  const int child = robot.link_index(J.child);
-  const Eigen::Isometry3d& X_WC = X[static_cast<std::size_t>(child)];
-  const Eigen::Vector3d a = (X_WC.linear() * J.axis).normalized(), o = X_WC.translation();
-  std::vector<int> sub{child};
-  for (std::size_t k = 0; k < sub.size(); ++k)
-    for (const auto& j : robot.joints)
-      if (j.parent == robot.links[static_cast<std::size_t>(sub[k])].name) sub.push_back(robot.link_index(j.child));
-  double I = 0;
-  for (int l : sub) {
-    const model::Link& L = robot.links[static_cast<std::size_t>(l)];
-    const Eigen::Matrix3d R = X[static_cast<std::size_t>(l)].linear();
-    const Eigen::Vector3d c = X[static_cast<std::size_t>(l)] * L.com_m - o;
-    const Eigen::Vector3d d = c - a * a.dot(c);
-    I += a.dot(R * L.inertia_kgm2 * R.transpose() * a) + L.mass_kg * d.squaredNorm();
-  }
-  return I;
-}
-
-void add_payload(model::RobotDescription& robot, const Payload& p) {
-  const int l = robot.link_index(p.link);
-  if (l < 0) throw InputError("payload: the robot has no link '" + p.link + "'");
-  model::Link& L = robot.links[static_cast<std::size_t>(l)];
-  const double m = L.mass_kg + p.mass_kg;
-  const Eigen::Vector3d c = (L.mass_kg * L.com_m + p.mass_kg * p.com_L) / m;
-  auto shift = [](double mass, const Eigen::Vector3d& d) { return mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()); };
-  L.inertia_kgm2 = L.inertia_kgm2 + shift(L.mass_kg, L.com_m - c) + Eigen::Matrix3d(p.inertia_kgm2.asDiagonal()) + shift(p.mass_kg, p.com_L - c);
-  L.com_m = c;
-  L.mass_kg = m;
-}
-
 }  // namespace
 
-VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options, double frame_rate_hz,
-                          const std::function<void(double, const model::Plant&)>& on_frame) {
+VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
   const RobotSetup& r = v.robot;
   // Where an entry of robot: was written (its file:line:col), else the scenario file.
   auto where = [&](const std::string& key) {
@@ -542,12 +505,13 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   }
   try {
     robot = model::freeze_joints(robot, freeze);
-  } catch (const model::ModelError& e) {
-    throw InputError(s.file + ": robot.freeze: " + e.what());
+  } catch (model::ModelError& e) {
+    e.prepend(s.file + ": robot.freeze: ");
+    throw;
   }
   for (const auto& p : r.payloads) {
     if (robot.link_index(p.link) < 0) throw InputError(where("payloads:" + p.link) + ": robot.payloads: the robot has no link '" + p.link + "'");
-    add_payload(robot, p);
+    model::add_payload(robot, p.link, p.mass_kg, p.com_L, p.inertia_kgm2);
   }
 
   // Actuators.
@@ -573,16 +537,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     if (!std::any_of(po.actuators.begin(), po.actuators.end(), [&](const auto& a) { return a.joint == name; }))
       throw InputError(where("actuators:" + name) + ": robot.actuators: '" + name + "' is not a moving joint with an actuator");
 
-  VariantResult res;
-  res.name = v.name;
-  res.axes = v.axes;
-  auto initial_of = [&](const std::string& joint) {
-    for (const auto& [n, q] : r.initial)
-      if (n == joint) return q;
-    for (const auto& [n, q] : r.lock)
-      if (n == joint) return q;
-    return 0.0;
-  };
+  auto initial_of = [&](const std::string& joint) { return initial_angle(r, joint); };
   // Reflected loads: a disc on the joint axis (added to the child link at the joint origin).
   for (const auto& load : r.loads) {
     const int j = robot.joint_index(load.joint);
@@ -590,20 +545,39 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     if (j < 0 || act == po.actuators.end())
       throw InputError(where("loads:" + load.joint) + ": robot.loads: '" + load.joint + "' is not an actuated moving joint");
     const double n_l = act->linkage.N_l(initial_of(load.joint));
-    const double need = load.reflected_mass_kg / (n_l * n_l) - subtree_axis_inertia(robot, j);
+    const double need = load.reflected_mass_kg / (n_l * n_l) - model::subtree_axis_inertia(robot, j);
     if (need < 0)
       throw InputError(fmt::format("{}: robot.loads: {} kg reflected is less than the bare link's {:.1f} kg", where("loads:" + load.joint), load.reflected_mass_kg,
-                                   subtree_axis_inertia(robot, j) * n_l * n_l));
+                                   model::subtree_axis_inertia(robot, j) * n_l * n_l));
     const model::Joint& J = robot.joints[static_cast<std::size_t>(j)];
-    Payload disc;
-    disc.link = J.child;
-    disc.mass_kg = 10.0;
     const Eigen::Vector3d ax = J.axis.cwiseAbs();
-    disc.inertia_kgm2 = need * ax + 0.5 * need * (Eigen::Vector3d::Ones() - ax);  // thin disc about its axis
-    add_payload(robot, disc);
+    // A thin 10 kg disc about the axis, centred on it (no gravity torque).
+    model::add_payload(robot, J.child, 10.0, Eigen::Vector3d::Zero(), need * ax + 0.5 * need * (Eigen::Vector3d::Ones() - ax));
   }
+  return {std::move(robot), po};
+}
 
-  model::Plant plant(robot, po);
+double initial_angle(const RobotSetup& r, const std::string& joint) {
+  for (const auto& [n, q] : r.initial)
+    if (n == joint) return q;
+  for (const auto& [n, q] : r.lock)
+    if (n == joint) return q;
+  return 0.0;
+}
+
+VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options) {
+  const RobotSetup& r = v.robot;
+  auto where = [&](const std::string& key) {
+    const auto it = r.where.find(key);
+    return it == r.where.end() ? s.file : it->second;
+  };
+  const VariantPlant vp = variant_plant(s, v);
+  const model::RobotDescription& robot = vp.robot;
+  auto initial_of = [&](const std::string& joint) { return initial_angle(r, joint); };
+  VariantResult res;
+  res.name = v.name;
+  res.axes = v.axes;
+  model::Plant plant(robot, vp.options);
   plant.reset();
   Eigen::VectorXd q0 = plant.joint_positions();
   for (const auto& [n, q] : r.initial) {
@@ -626,7 +600,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     const int j = robot.joint_index(a.joint);
     const double n_l = a.linkage.N_l(initial_of(a.joint));
     res.truth = {{"J_m", a.J_m_kgm2}, {"B_m", a.B_m_Nms}, {"M_r", a.M_r_kg}, {"B_r", a.B_s_Ns_per_m}, {"K_r", a.K_s_N_per_m},
-                 {"B_l", a.B_l_Ns_per_m}, {"M_l", subtree_axis_inertia(robot, j) * n_l * n_l}, {"k_tau", a.k_tau_Nm_per_A},
+                 {"B_l", a.B_l_Ns_per_m}, {"M_l", model::subtree_axis_inertia(robot, j) * n_l * n_l}, {"k_tau", a.k_tau_Nm_per_A},
                  {"N_m", a.N_m_rad_per_m}, {"N_l", n_l}, {"q0", initial_of(a.joint)}, {"efficiency", a.efficiency}};
   }
 
@@ -635,7 +609,6 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   spec.forces = v.forces;
   spec.duration_s = options.duration_s.value_or(v.duration_s);
   spec.log_rate_hz = v.log_rate_hz;
-  spec.frame_rate_hz = on_frame ? frame_rate_hz : 0;
   spec.sensor_noise = v.sensor_noise;
   spec.seed = v.seed;
   spec.force_noise_N = v.force_noise_N;
@@ -693,8 +666,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   Simulation sim(plant, spec);
   const auto t0 = std::chrono::steady_clock::now();
   const long long steps0 = plant.integrator_steps();
-  res.log = sim.run(on_frame ? std::function<void(double)>([&](double t) { on_frame(t, plant); }) : std::function<void(double)>(),
-                    options.on_progress);
+  res.log = sim.run(options.on_progress);
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   res.real_time_factor = spec.duration_s / std::max(res.wall_s, 1e-9);
   res.integrator_steps = plant.integrator_steps() - steps0;

@@ -37,21 +37,6 @@ Ns period_ns(double rate_hz, const std::string& what) {
   return r;
 }
 
-// Joint angle q whose linkage length change x(q) - x(0) equals dx, by Newton's method
-// from a guess (the previous reading): the firmware's lookup from actuator travel to
-// joint angle, done exactly.
-double invert_linkage(const model::LinkageGeometry& g, double dx, double guess) {
-  const double target = g.length_m(0) + dx;
-  double q = guess;
-  for (int it = 0; it < 30; ++it) {
-    const double r = g.moment_arm_m(q);
-    const double step = (g.length_m(q) - target) / r;
-    q -= step;
-    if (std::abs(step) < 1e-13) break;
-  }
-  return q;
-}
-
 }  // namespace
 
 struct Simulation::Impl {
@@ -79,7 +64,8 @@ struct Simulation::Impl {
   // Per joint and per actuator signal indices.
   int nj = 0, na = 0;
   std::vector<int> sig_q, sig_qd, sig_torque;
-  int sig_base = -1;  // floating base: x, y, z, roll, pitch, yaw, tilt from here on
+  int sig_base = -1;     // floating base: x, y, z, roll, pitch, yaw, tilt from here on
+  int sig_contact = -1;  // contact sphere k's force: fx, fy, fz at sig_contact + 3 k
   struct ActuatorIo {
     int joint = -1;
     int current = -1, q_enc = -1, q_pot = -1, force = -1, motor = -1, spring = -1;
@@ -138,7 +124,13 @@ struct Simulation::Impl {
       if (spec.sensor_noise) io.pot.emplace(a.potentiometer, spec.seed * 1000003ULL + static_cast<uint64_t>(k));
       acts.push_back(std::move(io));
     }
-    // Logged-only signals after the bus ones.
+    // Logged-only signals after the bus ones: per actuator, and the force on each contact
+    // sphere (so that a report can draw them after the run).
+    if (!plant.contacts().empty()) {
+      sig_contact = static_cast<int>(names.size());
+      for (std::size_t k = 0; k < plant.contacts().size(); ++k)
+        for (const char* axis : {"fx", "fy", "fz"}) add(fmt::format("contact.{}.{}", k, axis), "N");
+    }
     for (auto& io : acts) {
       const std::string& J = plant.actuator(static_cast<int>(&io - acts.data())).joint;
       io.force_true = add(J + ".force_true", "N");
@@ -263,7 +255,7 @@ struct Simulation::Impl {
       bus[static_cast<std::size_t>(io.force_true)] = f[k];
       const double qj = io.joint >= 0 ? q[io.joint] : 0.0;
       if (first) io.q_enc_last = qj;  // Newton's first guess only (the firmware starts from its last reading)
-      io.q_enc_last = invert_linkage(a.linkage, th / a.N_m_rad_per_m - x, io.q_enc_last);
+      io.q_enc_last = a.linkage.angle_for_length_change(th / a.N_m_rad_per_m - x, io.q_enc_last);
       bus[static_cast<std::size_t>(io.q_enc)] = io.q_enc_last;
       if (io.pot) {
         if (first) io.pot->reset(qj);
@@ -345,6 +337,11 @@ struct Simulation::Impl {
     }
   }
   void fill_logged() {
+    if (sig_contact >= 0) {
+      const std::vector<model::ContactReading> c = plant.contacts();
+      for (std::size_t k = 0; k < c.size(); ++k)
+        for (int i = 0; i < 3; ++i) bus[static_cast<std::size_t>(sig_contact) + 3 * k + static_cast<std::size_t>(i)] = c[k].force_W[i];
+    }
     if (na == 0) return;
     const Eigen::VectorXd i = plant.applied_currents(), f = plant.actuator_forces();
     for (int k = 0; k < na; ++k) {
@@ -387,12 +384,11 @@ std::vector<unsigned long long> Simulation::controller_clamp_events() const {
   return r;
 }
 
-Log Simulation::run(const std::function<void(double)>& on_frame, const std::function<void(double)>& on_progress) {
+Log Simulation::run(const std::function<void(double)>& on_progress) {
   Impl& m = *impl_;
   const Ns end = static_cast<Ns>(std::llround(m.spec.duration_s * 1e9));
   if (end <= 0) throw InputError(fmt::format("duration {} s is not positive", m.spec.duration_s));
   const Ns log_period = period_ns(m.spec.log_rate_hz, "log");
-  const Ns frame_period = m.spec.frame_rate_hz > 0 ? period_ns(m.spec.frame_rate_hz, "frames") : kNever;
   const Ns t0 = static_cast<Ns>(std::llround(m.plant.time() * 1e9));
 
   Log log;
@@ -400,13 +396,13 @@ Log Simulation::run(const std::function<void(double)>& on_frame, const std::func
   log.reserve(static_cast<std::size_t>(end / log_period) + 2);
 
   for (auto& c : m.ctrls) c.next_tick = 0;
-  Ns next_log = 0, next_frame = frame_period == kNever ? kNever : 0;
+  Ns next_log = 0;
   Ns next_progress = end / 100;
   Ns t = 0;
   m.refresh_true();
   m.apply_forces(0.0);
   for (;;) {
-    // Events at t: publications, then controller ticks, then log and frame.
+    // Events at t: publications, then controller ticks, then the log.
     for (auto& c : m.ctrls)
       if (c.publish_at == t) m.publish(c);
     bool tick = false;
@@ -440,22 +436,19 @@ Log Simulation::run(const std::function<void(double)>& on_frame, const std::func
       for (std::size_t s = 0; s < m.bus.size(); ++s) log.set(static_cast<int>(s) + 1, m.bus[s]);
       next_log += log_period;
     }
-    if (t == next_frame) {
-      if (on_frame) on_frame(m.t_of(t));
-      next_frame += frame_period;
-    }
     if (on_progress && t >= next_progress) {
       on_progress(static_cast<double>(t) / static_cast<double>(end));
       next_progress += std::max<Ns>(end / 100, 1);
     }
     if (t >= end) break;
-    Ns next = std::min({end, next_log, next_frame});
+    Ns next = std::min(end, next_log);
     for (const auto& c : m.ctrls) next = std::min({next, c.next_tick, c.publish_at});
     try {
       m.plant.advance_to(m.t_of(t0 + next));
-    } catch (const model::ModelError& e) {
+    } catch (model::ModelError& e) {  // the plant's own divergence: add the joints' state, keep the error
       m.refresh_true();
-      throw DivergenceError(fmt::format("{} ({})", e.what(), m.state_text()));
+      e.append(" (" + m.state_text() + ")");
+      throw;
     }
     m.advance_thermal(m.t_of(next - t));
     t = next;

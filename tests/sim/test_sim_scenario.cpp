@@ -1,6 +1,7 @@
-// Scenarios: loading (errors with file:line), variants and matrices, run_scenario's
-// outputs, the `dmbd simulate` command line, and end-to-end checks of the shipped
-// scenarios against what the paper reports.
+// Scenarios: loading (errors with file:line), variants and matrices, run directories
+// (run_scenario, read_run), the `dmbd simulate` command line, and end-to-end checks of
+// the shipped scenarios against what the paper reports. Reports and frames drawn from
+// runs: tests/report/.
 //
 // Scenarios are written into a temporary folder; they run the knee-only table robot
 // (robot: {moving: [l_knee], actuators: [l_knee]}) for a few tens of milliseconds.
@@ -21,13 +22,11 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "dmbd/blocks/error.hpp"
-#include "dmbd/sim/outputs.hpp"
+#include "dmbd/model/error.hpp"
+#include "dmbd/sim/run_directory.hpp"
 #include "dmbd/sim/scenario.hpp"
-#include "dmbd/viz/renderer.hpp"
 #include "sim_test_support.hpp"
 
 namespace {
@@ -455,14 +454,12 @@ TEST(SimScenarioDivergence, ADivergingVariantIsAnInputErrorNamingScenarioAndVari
              "        inputs: {q: l_knee.q}\n"
              "        outputs: {tau: l_knee.torque}\n");
   const Scenario s = load_scenario(path);
-  dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
   try {
-    (void)dmbd::sim::run_scenario(s, dir.file("out"), o);
+    (void)dmbd::sim::run_scenario(s, dir.file("out"));
     FAIL() << "no error";
-  } catch (const dmbd::sim::DivergenceError& e) {
-    FAIL() << "a DivergenceError escaped run_scenario: " << e.what();
   } catch (const InputError& e) {
+    // The divergence itself, with where it happened added (not re-wrapped).
+    EXPECT_TRUE(dynamic_cast<const dmbd::sim::DivergenceError*>(&e) || dynamic_cast<const dmbd::model::ModelError*>(&e)) << e.what();
     const std::string msg = e.what();
     EXPECT_EQ(msg.rfind(path, 0), 0u) << msg;
     EXPECT_NE(msg.find("variant 'wild'"), std::string::npos) << msg;
@@ -492,9 +489,7 @@ TEST(SimScenarioExperiments, ThermalRmsCurrentIsExact) {
              "references:\n"
              "  l_knee.current: {type: sine, amplitude: 3.0, freq_hz: 10}\n"
              "experiment: {type: thermal, joint: l_knee}\n");
-  dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
-  const auto r = dmbd::sim::run_scenario(load_scenario(path), dir.file("out"), o);
+  const auto r = dmbd::sim::run_scenario(load_scenario(path), dir.file("out"));
   const auto& m = r.experiment.metrics;
   // 1e-12 relative: 200 rounded products summed.
   EXPECT_NEAR(m["rms_current_A"].get<double>(), 3.0 / std::sqrt(2.0), 1e-12 * 3.0);
@@ -514,98 +509,60 @@ TEST(SimScenarioExperiments, ThermalRmsCurrentIsExact) {
 
 // ------------------------------------------------------------------------- run_scenario and the CLI
 
-TEST(SimScenarioRun, WritesLogMetricsAndReport) {
+// The run directory: log.csv and metrics.json and nothing else (sim draws nothing),
+// read back by read_run with the same logs (to the last bit: 17 digits), run figures,
+// true values and experiment.
+TEST(SimScenarioRun, WritesTheRunDirectoryAndReadsItBack) {
   TempDir dir;
   const std::string path = dir.file("hold.yaml");
   write_text(path, base_scenario() + "plots:\n  - {title: Knee, y_label: rad, file: knee.png, signals: [l_knee.q, q_d]}\n");
   dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
   o.duration_s = 0.03;
   const auto out = dir.file("out");
   const auto r = dmbd::sim::run_scenario(load_scenario(path), out, o);
   ASSERT_EQ(r.runs.size(), 1u);
   EXPECT_EQ(r.runs[0].log.rows(), 31u);
-  EXPECT_EQ(r.frames, 0);
-  for (const char* f : {"log.csv", "metrics.json", "report.html", "plots/knee.png"}) {
-    EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
-    EXPECT_NE(std::find(r.files.begin(), r.files.end(), f), r.files.end()) << f;
-  }
-  EXPECT_FALSE(fs::exists(fs::path(out) / "frames"));
+  EXPECT_EQ(r.files, (std::vector<std::string>{"log.csv", "metrics.json"}));
+  for (const auto& e : fs::recursive_directory_iterator(out)) EXPECT_TRUE(e.path().filename() == "log.csv" || e.path().filename() == "metrics.json") << e.path();
   EXPECT_EQ(read_text(out + "/log.csv"), r.runs[0].log.to_csv());
   const auto metrics = nlohmann::json::parse(read_text(out + "/metrics.json"));
   EXPECT_EQ(metrics["scenario"], "knee_hold");
   EXPECT_EQ(metrics["runs"]["base"]["controller_steps"][0], 31);
-  // Nothing but the listed files and their folders: no temporary left anywhere.
-  for (const auto& e : fs::recursive_directory_iterator(out)) {
-    const std::string rel = fs::relative(e.path(), out).string();
-    if (e.is_directory()) continue;
-    EXPECT_NE(std::find(r.files.begin(), r.files.end(), rel), r.files.end()) << "unlisted file " << rel;
+  EXPECT_EQ(metrics["scenario_file"], fs::absolute(path).lexically_normal().string());
+
+  const auto back = dmbd::sim::read_run(out);
+  ASSERT_EQ(back.runs.size(), 1u);
+  const auto& a = r.runs[0].log;
+  const auto& b = back.runs[0].log;
+  ASSERT_EQ(a.columns(), b.columns());
+  for (std::size_t c = 0; c < a.columns(); ++c) {
+    EXPECT_EQ(a.name(static_cast<int>(c)), b.name(static_cast<int>(c)));
+    EXPECT_EQ(a.unit(static_cast<int>(c)), b.unit(static_cast<int>(c)));
+    EXPECT_EQ(a.column(static_cast<int>(c)), b.column(static_cast<int>(c))) << a.name(static_cast<int>(c));  // bit for bit
   }
+  EXPECT_EQ(back.runs[0].wall_s, r.runs[0].wall_s);
+  EXPECT_EQ(back.runs[0].controller_steps, r.runs[0].controller_steps);
+  EXPECT_EQ(back.experiment.metrics, r.experiment.metrics);
+  ASSERT_EQ(back.experiment.figures.size(), 1u);  // the scenario's plot
+  EXPECT_EQ(back.experiment.figures[0].second.axes()[0].series[0].y, r.experiment.figures[0].second.axes()[0].series[0].y);
 }
 
-// Frames from run_scenario show the robot and it moves between them. The knee is
-// driven by a constant 6 A (no controller) for 0.3 s, frames at 10/s from a fixed
-// camera, 320 x 240. "Shows the robot": the pixels that differ from the same camera's
-// view of the empty scene (ground, grid, sky). "Moves": the first and the last frame
-// differ, where a run with the knee locked gives (all but) identical frames. The
-// overlay's text panel (top rows, with the time) is left out of both measures.
-TEST(SimScenarioFrames, FramesShowTheRobotMoving) {
+// Several variants, logged at different rates, split back out of the combined table.
+TEST(SimScenarioRun, SplitCsvInvertsCombinedCsv) {
   TempDir dir;
-  auto scenario = [&](bool locked) {
-    const std::string path = dir.file(locked ? "still.yaml" : "swing.yaml");
-    write_text(path, std::string("name: swing\n"
-                                 "robot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
-                                 "initial: {l_knee: 1.0}") +
-                         (locked ? ", lock: {l_knee: 1.0}" : "") +
-                         "}\n"
-                         "duration_s: 0.3\n"
-                         "references:\n"
-                         "  l_knee.current: {type: constant, value: 6.0}\n"
-                         "frames: {fps: 10, width: 320, height: 240, camera: {position: [1.6, -1.6, 1.0], look_at: [0, 0, 0.8]}}\n");
-    return load_scenario(path);
-  };
-  const int text_rows = 60;  // the overlay's text panel: two lines at the top
-  auto differing = [&](const cv::Mat& a, const cv::Mat& b) {
-    cv::Mat d;
-    cv::absdiff(a.rowRange(text_rows, a.rows), b.rowRange(text_rows, b.rows), d);
-    std::vector<cv::Mat> ch;
-    cv::split(d, ch);
-    cv::Mat m = cv::max(cv::max(ch[0], ch[1]), ch[2]) > 30;
-    return static_cast<double>(cv::countNonZero(m)) / static_cast<double>(a.total());
-  };
-  dmbd::viz::Camera camera;
-  camera.position = {1.6, -1.6, 1.0};
-  camera.look_at = {0, 0, 0.8};
-  camera.width_px = 320;
-  camera.height_px = 240;
-  dmbd::viz::Renderer empty(320, 240);
-  empty.set_scene(dmbd::viz::Scene{});
-  const cv::Mat background = empty.render({}, camera, {}).clone();
-
-  double moved_fraction[2] = {0, 0};
-  for (bool locked : {false, true}) {
-    SCOPED_TRACE(locked ? "knee locked" : "knee driven");
-    const std::string out = dir.file(locked ? "still" : "swing");
-    const auto r = dmbd::sim::run_scenario(scenario(locked), out, {});
-    ASSERT_EQ(r.frames, 4);  // t = 0, 0.1, 0.2, 0.3 s
-    EXPECT_TRUE(fs::exists(out + "/video.mp4"));
-    std::vector<cv::Mat> frames;
-    for (int k = 0; k < 4; ++k) {
-      frames.push_back(cv::imread(out + "/frames/frame_0000" + std::to_string(k) + ".png", cv::IMREAD_COLOR));
-      ASSERT_FALSE(frames.back().empty()) << "frame " << k;
-      ASSERT_EQ(frames.back().size(), cv::Size(320, 240));
-      // DRACO (1.3 m tall, 1.6-2.3 m from the camera) covers several % of the picture.
-      EXPECT_GT(differing(frames.back(), background), 0.03) << "frame " << k << " hardly differs from the empty scene";
-    }
-    const auto& q = r.runs[0].log.column("l_knee.q");
-    if (!locked) {
-      EXPECT_GT(std::abs(q.back() - q.front()), 0.1) << "the knee did not swing";
-    }
-    moved_fraction[locked] = differing(frames.front(), frames.back());
+  const std::string path = dir.file("two.yaml");
+  write_text(path, base_scenario() + "variants:\n  - name: slow/a\n    log_rate_hz: 500\n  - name: fast\n");
+  dmbd::sim::ScenarioRunOptions o;
+  o.duration_s = 0.01;
+  const auto r = dmbd::sim::run_scenario(load_scenario(path), dir.file("out"), o);
+  const auto logs = dmbd::sim::split_csv(dmbd::sim::combined_csv(r.runs), {"slow/a", "fast"}, "log.csv");
+  ASSERT_EQ(logs.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(logs[k].rows(), r.runs[k].log.rows());
+    EXPECT_EQ(logs[k].to_csv(), r.runs[k].log.to_csv());
   }
-  std::printf("pixels changed between the first and last frame: driven %.4f, locked %.4f\n", moved_fraction[0], moved_fraction[1]);
-  EXPECT_GT(moved_fraction[0], 0.005);
-  EXPECT_LT(moved_fraction[1], 0.001);
+  EXPECT_EQ(logs[0].rows(), 6u);   // 0..10 ms at 2 ms
+  EXPECT_EQ(logs[1].rows(), 11u);  // at 1 ms
 }
 
 // The dmbd binary of the same build: <build>/apps/dmbd, the test being <build>/tests/sim/test_sim_sim.
@@ -665,11 +622,9 @@ TEST(SimScenarioCli, SimulateWritesOutputsAndReportsErrorsOnOneLine) {
 // ------------------------------------------------------------------------- shipped scenarios
 
 // A shipped scenario of examples/scenarios/, run without frames into `dir`.
-dmbd::sim::ScenarioRunResult run_shipped(const TempDir& dir, const std::string& name,
-                                         std::optional<double> duration_s = std::nullopt) {
+dmbd::sim::ScenarioRun run_shipped(const TempDir& dir, const std::string& name, std::optional<double> duration_s = std::nullopt) {
   const Scenario s = load_scenario(kSourceDir + "/examples/scenarios/" + name + ".yaml");
   dmbd::sim::ScenarioRunOptions o;
-  o.frames = false;
   o.duration_s = duration_s;
   return dmbd::sim::run_scenario(s, dir.file("out"), o);
 }

@@ -1,9 +1,11 @@
 #include "dmbd/viz/diagram_drawing.hpp"
+#include "dmbd/base/file.hpp"
 
 #include <algorithm>
 #include <functional>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "dmbd/viz/plot.hpp"
 
@@ -15,17 +17,6 @@ constexpr int kBoxW = 190, kBoxH = 78, kIoW = 120, kIoH = 40;
 constexpr int kLayerGap = 110, kRowGap = 50, kMargin = 50, kLane = 26;
 const cv::Scalar kInk(40, 40, 40), kBlue(180, 119, 31), kGrey(120, 120, 120), kFill(250, 244, 236),
     kIoFill(236, 246, 236);
-
-std::string summary(const diagrams::Block& b) {
-  std::string s;
-  for (const auto& [k, v] : b.fields) {
-    if (k == "description" || k == "parameters") continue;
-    std::string item = k + ": " + v;
-    if (b.type == diagrams::BlockType::Tf && k == "expr") item = v;
-    s += (s.empty() ? "" : ", ") + item;
-  }
-  return s;
-}
 
 // Fit text into a width by shortening it with an ellipsis.
 std::string fit(const std::string& text, double scale, int thickness, int width) {
@@ -55,19 +46,24 @@ void arrow_head(cv::Mat& img, cv::Point tip, cv::Point dir, cv::Scalar color) {
 
 }  // namespace
 
-DiagramLayout layout_diagram(const diagrams::Diagram& d) {
+DiagramLayout layout_diagram(const DiagramPicture& d) {
   DiagramLayout L;
-  const int ni = static_cast<int>(d.inputs().size()), nb = static_cast<int>(d.blocks().size()),
-            no = static_cast<int>(d.outputs().size());
-  for (int i = 0; i < ni; ++i) L.nodes.push_back({d.inputs()[static_cast<size_t>(i)].name, 0, i, 0, 0, {}});
-  for (int i = 0; i < nb; ++i) L.nodes.push_back({d.blocks()[static_cast<size_t>(i)].name, 1, i, 0, 0, {}});
-  for (int i = 0; i < no; ++i) L.nodes.push_back({d.outputs()[static_cast<size_t>(i)].name, 2, i, 0, 0, {}});
-  auto node_of = [&](const diagrams::Source& s) { return s.block < 0 ? s.port : ni + s.block; };
-  for (int bi = 0; bi < nb; ++bi)
-    for (size_t k = 0; k < d.drivers(bi).size(); ++k)
-      L.edges.push_back({node_of(d.drivers(bi)[k]), ni + bi, d.drivers(bi)[k].port, static_cast<int>(k), false, {}});
-  for (int j = 0; j < no; ++j)
-    L.edges.push_back({node_of(d.output_driver(j)), ni + nb + j, d.output_driver(j).port, 0, false, {}});
+  const int ni = static_cast<int>(d.inputs.size()), nb = static_cast<int>(d.blocks.size()),
+            no = static_cast<int>(d.outputs.size());
+  if (d.drivers.size() != d.blocks.size() || d.output_drivers.size() != d.outputs.size())
+    throw std::invalid_argument("viz::layout_diagram: one driver list per block and one driver per output expected");
+  for (int i = 0; i < ni; ++i) L.nodes.push_back({d.inputs[static_cast<size_t>(i)], 0, i, 0, 0, {}});
+  for (int i = 0; i < nb; ++i) L.nodes.push_back({d.blocks[static_cast<size_t>(i)].name, 1, i, 0, 0, {}});
+  for (int i = 0; i < no; ++i) L.nodes.push_back({d.outputs[static_cast<size_t>(i)], 2, i, 0, 0, {}});
+  auto node_of = [&](const DiagramPicture::Source& s) { return s.block < 0 ? s.port : ni + s.block; };
+  for (int bi = 0; bi < nb; ++bi) {
+    const auto& drv = d.drivers[static_cast<size_t>(bi)];
+    for (size_t k = 0; k < drv.size(); ++k) L.edges.push_back({node_of(drv[k]), ni + bi, drv[k].port, static_cast<int>(k), false, {}});
+  }
+  for (int j = 0; j < no; ++j) {
+    const auto& src = d.output_drivers[static_cast<size_t>(j)];
+    L.edges.push_back({node_of(src), ni + nb + j, src.port, 0, false, {}});
+  }
   const int n = static_cast<int>(L.nodes.size());
 
   // Feedback edges: back edges of a depth-first search from the inputs (then from any
@@ -158,8 +154,8 @@ DiagramLayout layout_diagram(const diagrams::Diagram& d) {
   auto height_of = [&](const DiagramLayout::Node& nd) {
     if (nd.kind == 3) return 2;
     if (nd.kind != 1) return kIoH;
-    const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
-    const int ports = static_cast<int>(std::max(b.inputs.size(), b.outputs.size()));
+    const auto& b = d.blocks[static_cast<size_t>(nd.index)];
+    const int ports = static_cast<int>(std::max(b.input_labels.size(), b.output_labels.size()));
     return std::max(kBoxH, 24 * ports + 12);
   };
   std::vector<int> column(static_cast<size_t>(L.layers), 0);
@@ -183,10 +179,10 @@ DiagramLayout layout_diagram(const diagrams::Diagram& d) {
   return L;
 }
 
-cv::Mat draw_diagram(const diagrams::Diagram& d) {
+cv::Mat draw_diagram(const DiagramPicture& d) {
   const DiagramLayout L = layout_diagram(d);
   cv::Mat img(L.size, CV_8UC3, cv::Scalar(255, 255, 255));
-  const std::string title = d.name() + (d.description().empty() ? "" : ": " + d.description());
+  const std::string& title = d.title;
   cv::putText(img, fit(title, 0.7, 2, L.size.width - 2 * kMargin), {kMargin, 38}, cv::FONT_HERSHEY_SIMPLEX, 0.7, kInk,
               2, cv::LINE_AA);
 
@@ -194,8 +190,8 @@ cv::Mat draw_diagram(const diagrams::Diagram& d) {
     const auto& nd = L.nodes[static_cast<size_t>(node)];
     int count = 1;
     if (nd.kind == 1) {
-      const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
-      count = static_cast<int>(output ? b.outputs.size() : b.inputs.size());
+      const auto& b = d.blocks[static_cast<size_t>(nd.index)];
+      count = static_cast<int>(output ? b.output_labels.size() : b.input_labels.size());
     }
     const int y = nd.box.y + nd.box.height * (2 * port + 1) / (2 * std::max(1, count));
     return cv::Point(output ? nd.box.x + nd.box.width : nd.box.x, y);
@@ -238,31 +234,28 @@ cv::Mat draw_diagram(const diagrams::Diagram& d) {
   for (const auto& nd : L.nodes) {
     if (nd.kind == 3) continue;
     if (nd.kind == 1) {
-      const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
+      const auto& b = d.blocks[static_cast<size_t>(nd.index)];
       cv::rectangle(img, nd.box, kFill, cv::FILLED);
       cv::rectangle(img, nd.box, kInk, 2, cv::LINE_AA);
       const cv::Point c(nd.box.x + nd.box.width / 2, nd.box.y + nd.box.height / 2);
       centered(img, fit(b.name, 0.62, 2, nd.box.width - 12), {c.x, c.y - 18}, 0.62, 2, kInk);
-      centered(img, diagrams::to_string(b.type), {c.x, c.y + 4}, 0.45, 1, kGrey);
-      centered(img, fit(summary(b), 0.4, 1, nd.box.width - 12), {c.x, c.y + 24}, 0.4, 1, kInk);
+      centered(img, b.kind, {c.x, c.y + 4}, 0.45, 1, kGrey);
+      centered(img, fit(b.summary, 0.4, 1, nd.box.width - 12), {c.x, c.y + 24}, 0.4, 1, kInk);
       // Port names where a block has several.
-      for (size_t k = 0; b.inputs.size() > 1 && k < b.inputs.size(); ++k) {
+      for (size_t k = 0; b.input_labels.size() > 1 && k < b.input_labels.size(); ++k) {
         const cv::Point p = port_point(static_cast<int>(&nd - &L.nodes[0]), static_cast<int>(k), false);
-        std::string label = b.inputs[k].name;
-        if (b.type == diagrams::BlockType::Sum) label = b.signs[k] > 0 ? "+" : "-";
-        cv::putText(img, label, {p.x + 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
+        cv::putText(img, b.input_labels[k], {p.x + 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
       }
-      for (size_t k = 0; b.outputs.size() > 1 && k < b.outputs.size(); ++k) {
+      for (size_t k = 0; b.output_labels.size() > 1 && k < b.output_labels.size(); ++k) {
         const cv::Point p = port_point(static_cast<int>(&nd - &L.nodes[0]), static_cast<int>(k), true);
         int base = 0;
-        const int w = cv::getTextSize(b.outputs[k].name, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, &base).width;
-        cv::putText(img, b.outputs[k].name, {p.x - w - 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
+        const int w = cv::getTextSize(b.output_labels[k], cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, &base).width;
+        cv::putText(img, b.output_labels[k], {p.x - w - 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
       }
     } else {
-      const auto& s = nd.kind == 0 ? d.inputs()[static_cast<size_t>(nd.index)] : d.outputs()[static_cast<size_t>(nd.index)];
+      const std::string& label = nd.kind == 0 ? d.inputs[static_cast<size_t>(nd.index)] : d.outputs[static_cast<size_t>(nd.index)];
       cv::rectangle(img, nd.box, kIoFill, cv::FILLED);
       cv::rectangle(img, nd.box, kGrey, 1, cv::LINE_AA);
-      const std::string label = s.name + (s.unit.empty() ? "" : " [" + s.unit + "]");
       centered(img, fit(label, 0.55, 1, nd.box.width - 8), {nd.box.x + nd.box.width / 2, nd.box.y + nd.box.height / 2}, 0.55, 1,
                kInk);
     }
@@ -270,8 +263,8 @@ cv::Mat draw_diagram(const diagrams::Diagram& d) {
   return img;
 }
 
-void save_diagram_png(const diagrams::Diagram& d, const std::string& path) {
-  write_file_atomic(path, encode_png(draw_diagram(d)));
+void save_diagram_png(const DiagramPicture& d, const std::string& path) {
+  dmbd::write_file_atomic(path, encode_png(draw_diagram(d)));
 }
 
 }  // namespace dmbd::viz

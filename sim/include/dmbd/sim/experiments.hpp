@@ -17,13 +17,14 @@
 #include <nlohmann/json.hpp>
 
 #include "dmbd/sim/scenario.hpp"
-#include "dmbd/viz/plot.hpp"
+#include "dmbd/base/figure.hpp"
 
 namespace dmbd::sim {
 
 struct ExperimentResult {
   nlohmann::json metrics = nlohmann::json::object();
-  std::vector<std::pair<std::string, viz::Figure>> figures;  // file name in plots/ -> figure
+  // File name in plots/ -> the figure as data (report/ draws it; sim draws nothing).
+  std::vector<std::pair<std::string, plot::Figure>> figures;
   std::vector<std::string> notes;                            // one line each, for the report
 };
 

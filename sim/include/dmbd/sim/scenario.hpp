@@ -146,10 +146,18 @@ struct RunOptions {
   std::function<void(double)> on_progress;
 };
 
-// Builds the plant and the controllers of a variant and runs it. `on_frame(t, plant)`
-// is called at frame_rate_hz (0: never).
-VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options,
-                          double frame_rate_hz = 0,
-                          const std::function<void(double, const model::Plant&)>& on_frame = {});
+// The robot a variant simulates (its URDF with the welded joints, payloads and test
+// inertias applied) and the plant's options (base, actuators, contact, integration).
+// Throws InputError naming where in the scenario a joint, link or load is wrong.
+struct VariantPlant {
+  model::RobotDescription robot;
+  model::PlantOptions options;
+};
+VariantPlant variant_plant(const Scenario& s, const VariantSetup& v);
+// A joint's angle at t = 0: robot.initial, else robot.lock, else 0.
+double initial_angle(const RobotSetup& r, const std::string& joint);
+
+// Builds the plant and the controllers of a variant and runs it.
+VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options);
 
 }  // namespace dmbd::sim

@@ -31,7 +31,9 @@
 // only, per actuator: J.force_true (N), J.current_applied (A, after the drive's limit),
 // J.i2t (A^2 s, the integral of the applied current squared since t = 0: exact, the
 // current is held between events), and the thermal nodes J.T_winding, J.T_housing
-// (degC; _cooled and _uncooled with cooling Both). A
+// (degC; _cooled and _uncooled with cooling Both); and with contact, the force on the
+// robot at each collision sphere, contact.K.fx/fy/fz (N, world; K counts the
+// description's collision spheres, links in order). A
 // reference may also drive a command directly ("l_knee.current": a current chirp for
 // system identification): it is then held from log tick to log tick.
 #include <cstdint>
@@ -42,6 +44,7 @@
 
 #include <Eigen/Core>
 
+#include "dmbd/base/error.hpp"
 #include "dmbd/codegen/fixed.hpp"
 #include "dmbd/codegen/loop_program.hpp"
 #include "dmbd/model/plant.hpp"
@@ -91,7 +94,6 @@ struct SimulationSpec {
   std::vector<ForceSpec> forces;
   double duration_s = 1;
   double log_rate_hz = 1000;
-  double frame_rate_hz = 0;           // 0: no frame callbacks
   bool sensor_noise = false;          // off: exact readings (no quantisation, no noise)
   uint64_t seed = 1;
   double force_noise_N = 0;           // white noise added to J.force when sensor_noise
@@ -103,9 +105,9 @@ struct SimulationSpec {
 
 // Thrown when the run diverges (NaN, integrator failure, runaway); the message names
 // the time and the state ("simulation diverged at t = 0.731 s: ... (l_knee q = ...)").
-class DivergenceError : public std::runtime_error {
+class DivergenceError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 class Simulation {
@@ -118,10 +120,9 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // Runs from the plant's current state for spec.duration_s. `on_frame` is called at
-  // every frame time (t = 0 included) with the plant in its state at that time;
+  // Runs from the plant's current state for spec.duration_s;
   // `on_progress` with the fraction done, about every 1 % of the run.
-  Log run(const std::function<void(double)>& on_frame = {}, const std::function<void(double)>& on_progress = {});
+  Log run(const std::function<void(double)>& on_progress = {});
 
   // Bus signal names (the log's columns follow them).
   std::vector<std::string> signal_names() const;

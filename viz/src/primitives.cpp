@@ -1,6 +1,6 @@
-// Scene from a RobotDescription: primitive tessellation, mesh copies, preview
-// kinematics and the default 3/4 camera.
-#include "dmbd/viz/robot_scene.hpp"
+// Primitive tessellation (box, cylinder, sphere), mesh transforms and the default 3/4
+// camera for a robot.
+#include "dmbd/viz/primitives.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -26,6 +26,8 @@ void add_quad(SceneMesh& m, const Eigen::Vector3f& a, const Eigen::Vector3f& b, 
   m.triangles.push_back({i, i + 2, i + 3});
 }
 
+}  // namespace
+
 SceneMesh transformed(SceneMesh m, const Eigen::Isometry3d& X) {
   const Eigen::Matrix3f R = X.linear().cast<float>();
   const Eigen::Vector3f p = X.translation().cast<float>();
@@ -34,7 +36,6 @@ SceneMesh transformed(SceneMesh m, const Eigen::Isometry3d& X) {
   return m;
 }
 
-}  // namespace
 
 SceneMesh box_mesh(const Eigen::Vector3d& size_m) {
   require(size_m.allFinite() && (size_m.array() > 0).all(), "box_mesh: sizes must be finite and > 0");
@@ -127,74 +128,6 @@ SceneMesh sphere_mesh(double radius_m, int segments) {
     }
   for (int j = 0; j < n_lon; ++j) m.triangles.push_back({south, at(n_lat - 1, j + 1), at(n_lat - 1, j)});
   return m;
-}
-
-Scene scene_from_robot(const model::RobotDescription& robot, const RobotSceneOptions& options) {
-  using Kind = model::Geometry::Kind;
-  Scene scene;
-  scene.bodies.reserve(robot.links.size());
-  for (const model::Link& link : robot.links) {
-    SceneBody body;
-    body.name = link.name;
-    for (const model::Shape& shape : link.visuals) {
-      const model::Geometry& g = shape.geometry;
-      SceneMesh m;
-      try {
-        switch (g.kind) {
-          case Kind::Box:
-            m = box_mesh(g.box_size_m);
-            break;
-          case Kind::Cylinder:
-            m = cylinder_mesh(g.radius_m, g.length_m, options.cylinder_segments);
-            break;
-          case Kind::Sphere:
-            m = sphere_mesh(g.radius_m, options.sphere_segments);
-            break;
-          case Kind::Mesh:
-            if (!g.mesh) continue;
-            m.vertices = g.mesh->vertices;
-            if (g.mesh->normals.size() == g.mesh->vertices.size()) m.normals = g.mesh->normals;
-            m.triangles = g.mesh->triangles;
-            break;
-        }
-      } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(std::string(e.what()) + " (link '" + link.name + "', visual '" + shape.name + "')");
-      }
-      m = transformed(std::move(m), shape.X_LG);
-      m.rgba = shape.rgba.cast<float>();
-      body.meshes.push_back(std::move(m));
-    }
-    scene.bodies.push_back(std::move(body));
-  }
-  return scene;
-}
-
-std::vector<Eigen::Isometry3d> link_frames(const model::RobotDescription& robot, const std::vector<double>& q,
-                                           const Eigen::Isometry3d& X_W_root) {
-  if (q.size() != robot.joints.size())
-    throw std::invalid_argument("viz::link_frames: " + std::to_string(q.size()) + " joint positions for " +
-                                std::to_string(robot.joints.size()) + " joints");
-  std::vector<Eigen::Isometry3d> X_WL(robot.links.size(), X_W_root);
-  for (std::size_t j = 0; j < robot.joints.size(); ++j) {
-    const model::Joint& joint = robot.joints[j];
-    const int p = robot.link_index(joint.parent), c = robot.link_index(joint.child);
-    if (p < 0 || c < 0) continue;
-    Eigen::Isometry3d X_JC = Eigen::Isometry3d::Identity();
-    const Eigen::Vector3d axis = joint.axis.norm() > 0 ? joint.axis.normalized() : Eigen::Vector3d::UnitX();
-    switch (joint.type) {
-      case model::JointType::Revolute:
-      case model::JointType::Continuous:
-        X_JC.linear() = Eigen::AngleAxisd(q[j], axis).toRotationMatrix();
-        break;
-      case model::JointType::Prismatic:
-        X_JC.translation() = q[j] * axis;
-        break;
-      default:
-        break;
-    }
-    X_WL[c] = X_WL[p] * joint.X_PJ * X_JC;
-  }
-  return X_WL;
 }
 
 Camera default_robot_camera(double robot_height_m, int width_px, int height_px, const Eigen::Vector3d& ground_point_W) {
