@@ -623,17 +623,21 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     auto program = std::make_shared<codegen::LoopProgram>(codegen::lower(*d, lo));
     ControllerSpec cs;
     cs.name = c.name;
-    cs.program = program;
-    cs.scalar = c.scalar;
-    cs.rate_hz = c.rate_hz;
     cs.delay_s = c.delay_s;
+    const std::string cwhere = c.where.empty() ? s.file : c.where;
+    std::shared_ptr<const codegen::FixedProgram> fixed;
     if (c.scalar == Scalar::Fixed) {
       std::vector<std::pair<double, double>> ranges;
       for (const auto& in : d->inputs())
         for (int k = 0; k < in.size; ++k) ranges.push_back(in.range.value_or(std::make_pair(-1.0, 1.0)));
-      cs.fixed = std::make_shared<codegen::FixedProgram>(codegen::make_fixed(*program, ranges, c.word_bits));
+      fixed = std::make_shared<codegen::FixedProgram>(codegen::make_fixed(*program, ranges, c.word_bits));
     }
-    const std::string cwhere = c.where.empty() ? s.file : c.where;
+    try {
+      cs.controller = loop_program_controller(program, c.scalar, fixed);
+    } catch (InputError& e) {
+      e.prepend(cwhere + ": controller '" + c.name + "': ");
+      throw;
+    }
     cs.where = cwhere;
     // Program ports in the diagram's order -> bus signals (and where each was bound).
     auto bind = [&](const std::vector<diagrams::SignalSpec>& ports, const std::vector<std::pair<std::string, std::string>>& given,

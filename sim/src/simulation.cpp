@@ -6,12 +6,10 @@
 #include <map>
 #include <optional>
 #include <random>
-#include <variant>
 
 #include <fmt/format.h>
 
 #include "dmbd/blocks/error.hpp"
-#include "dmbd/codegen/interpreter.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/sensors.hpp"
 
@@ -83,10 +81,8 @@ struct Simulation::Impl {
   // Controllers.
   struct Ctrl {
     ControllerSpec spec;
-    std::variant<codegen::Interpreter<double>, codegen::Interpreter<float>, codegen::FixedInterpreter> run;
-    std::vector<int> in, out;
+    std::vector<int> in, out;  // bus signals
     std::vector<double> u, y;
-    std::vector<float> uf, yf;
     Ns period = 0, delay = 0, next_tick = 0, publish_at = kNever;
     long long steps = 0;
   };
@@ -159,57 +155,49 @@ struct Simulation::Impl {
       force_link.push_back(l);
     }
     // Controllers: outputs first (they define bus signals), then check inputs.
-    for (const auto& c : spec.controllers) {
-      const codegen::LoopProgram& p = *c.program;
-      if (c.outputs.size() != p.outputs.size())
-        throw InputError(at(c.where) + fmt::format("controller '{}': {} outputs bound for {} program outputs", c.name, c.outputs.size(), p.outputs.size()));
-      if (c.inputs.size() != p.inputs.size())
-        throw InputError(at(c.where) + fmt::format("controller '{}': {} inputs bound for {} program inputs", c.name, c.inputs.size(), p.inputs.size()));
-      for (std::size_t k = 0; k < c.outputs.size(); ++k) {
-        const std::string& unit = p.slots[static_cast<std::size_t>(p.outputs[k])].unit;
-        add(c.outputs[k].empty() ? c.name + "." + p.slots[static_cast<std::size_t>(p.outputs[k])].name : c.outputs[k], unit);
-      }
-    }
+    for (const auto& c : spec.controllers) declare_outputs(c);
     for (const auto& c : spec.controllers)
       for (const auto& o : c.outputs)
         for (const auto& r : spec.references)
           if (o == r.name) throw InputError(at(r.where) + "controller '" + c.name + "' and a reference both drive '" + o + "'");
-    for (const auto& c : spec.controllers) {
-      const codegen::LoopProgram& p = *c.program;
-      auto make = [&]() -> decltype(Ctrl::run) {
-        switch (c.scalar) {
-          case Scalar::Float: return codegen::Interpreter<float>(p);
-          case Scalar::Fixed:
-            if (!c.fixed) throw InputError(at(c.where) + "controller '" + c.name + "': fixed point without a fixed-point program");
-            return codegen::FixedInterpreter(p, *c.fixed);
-          default: return codegen::Interpreter<double>(p);
-        }
-      };
-      Ctrl k{c, make(), {}, {}, std::vector<double>(p.inputs.size()), std::vector<double>(p.outputs.size()),
-             std::vector<float>(p.inputs.size()), std::vector<float>(p.outputs.size()),
-             period_ns(c.rate_hz, at(c.where) + "controller '" + c.name + "'"), 0, 0, kNever, 0};
-      if (std::abs(c.rate_hz - p.rate_hz) > 1e-9 * c.rate_hz)
-        throw InputError(at(c.where) + fmt::format("controller '{}': runs at {} Hz but its program was lowered at {} Hz", c.name, c.rate_hz, p.rate_hz));
-      k.delay = static_cast<Ns>(std::llround(c.delay_s * 1e9));
-      if (k.delay < 0 || k.delay > k.period)
-        throw InputError(at(c.where) + fmt::format("controller '{}': delay {} s must be between 0 and one period ({} s)", c.name, c.delay_s, 1.0 / c.rate_hz));
-      for (std::size_t i = 0; i < c.inputs.size(); ++i) {
-        const int s = find(c.inputs[i]);
-        if (s < 0)
-          throw InputError(at(i < c.input_where.size() ? c.input_where[i] : c.where) + "controller '" + c.name + "': input '" + p.slots[static_cast<std::size_t>(p.inputs[i])].name +
-                           "' is bound to '" + c.inputs[i] + "', which no sensor, reference or controller provides");
-        k.in.push_back(s);
-      }
-      for (std::size_t i = 0; i < c.outputs.size(); ++i)
-        k.out.push_back(find(c.outputs[i].empty() ? c.name + "." + p.slots[static_cast<std::size_t>(p.outputs[i])].name : c.outputs[i]));
-      ctrls.push_back(std::move(k));
-    }
+    for (const auto& c : spec.controllers) ctrls.push_back(bind(c));
     currents = Eigen::VectorXd::Zero(na);
     torques = Eigen::VectorXd::Zero(nj);
     for (auto& io : acts) {
       io.thermal_on.reset();
       io.thermal_off.reset();
     }
+  }
+
+  std::string output_signal(const ControllerSpec& c, std::size_t k) const {
+    return c.outputs[k].empty() ? c.name + "." + c.controller->output_name(static_cast<int>(k)) : c.outputs[k];
+  }
+  void declare_outputs(const ControllerSpec& c) {
+    if (!c.controller) throw InputError(at(c.where) + "controller '" + c.name + "': no controller");
+    const Controller& p = *c.controller;
+    if (static_cast<int>(c.outputs.size()) != p.num_outputs())
+      throw InputError(at(c.where) + fmt::format("controller '{}': {} outputs bound for {} controller outputs", c.name, c.outputs.size(), p.num_outputs()));
+    if (static_cast<int>(c.inputs.size()) != p.num_inputs())
+      throw InputError(at(c.where) + fmt::format("controller '{}': {} inputs bound for {} controller inputs", c.name, c.inputs.size(), p.num_inputs()));
+    for (std::size_t k = 0; k < c.outputs.size(); ++k) add(output_signal(c, k), p.output_unit(static_cast<int>(k)));
+  }
+  // The controller's ports on the bus, its period and delay on the event grid.
+  Ctrl bind(const ControllerSpec& c) {
+    const Controller& p = *c.controller;
+    Ctrl k{c, {}, {}, std::vector<double>(c.inputs.size()), std::vector<double>(c.outputs.size()),
+           period_ns(p.rate_hz(), at(c.where) + "controller '" + c.name + "'"), 0, 0, kNever, 0};
+    k.delay = static_cast<Ns>(std::llround(c.delay_s * 1e9));
+    if (k.delay < 0 || k.delay > k.period)
+      throw InputError(at(c.where) + fmt::format("controller '{}': delay {} s must be between 0 and one period ({} s)", c.name, c.delay_s, 1.0 / p.rate_hz()));
+    for (std::size_t i = 0; i < c.inputs.size(); ++i) {
+      const int sig = find(c.inputs[i]);
+      if (sig < 0)
+        throw InputError(at(i < c.input_where.size() ? c.input_where[i] : c.where) + "controller '" + c.name + "': input '" +
+                         p.input_name(static_cast<int>(i)) + "' is bound to '" + c.inputs[i] + "', which no sensor, reference or controller provides");
+      k.in.push_back(sig);
+    }
+    for (std::size_t i = 0; i < c.outputs.size(); ++i) k.out.push_back(find(output_signal(c, i)));
+    return k;
   }
 
   double t_of(Ns t) const { return static_cast<double>(t) * 1e-9; }
@@ -272,20 +260,7 @@ struct Simulation::Impl {
   }
   void step(Ctrl& c) {
     for (std::size_t k = 0; k < c.in.size(); ++k) c.u[k] = bus[static_cast<std::size_t>(c.in[k])];
-    std::visit(
-        [&](auto& r) {
-          using R = std::decay_t<decltype(r)>;
-          if constexpr (std::is_same_v<R, codegen::Interpreter<double>>) {
-            r.step(c.u.data(), c.y.data());
-          } else if constexpr (std::is_same_v<R, codegen::Interpreter<float>>) {
-            for (std::size_t k = 0; k < c.u.size(); ++k) c.uf[k] = static_cast<float>(c.u[k]);
-            r.step(c.uf.data(), c.yf.data());
-            for (std::size_t k = 0; k < c.y.size(); ++k) c.y[k] = static_cast<double>(c.yf[k]);
-          } else {
-            r.step_real(c.u.data(), c.y.data());
-          }
-        },
-        c.run);
+    c.spec.controller->step(c.u.data(), c.y.data());
     ++c.steps;
   }
   // Applies the command signals to the plant (held until the next change).
@@ -379,8 +354,7 @@ std::vector<long long> Simulation::controller_steps() const {
 }
 std::vector<unsigned long long> Simulation::controller_clamp_events() const {
   std::vector<unsigned long long> r;
-  for (const auto& c : impl_->ctrls)
-    r.push_back(std::visit([](const auto& x) { return x.clamp_events(); }, c.run));
+  for (const auto& c : impl_->ctrls) r.push_back(c.spec.controller->clamp_events());
   return r;
 }
 

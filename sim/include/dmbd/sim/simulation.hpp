@@ -1,8 +1,9 @@
 #pragma once
 // Multi-rate co-simulation: the continuous plant (dmbd::model::Plant, integrated between
-// events with error control or by its fixed step) and discrete controllers (loop programs run by
-// the codegen interpreters: the arithmetic of the generated code, in double, float or
-// fixed point) at their own rates, joined by a bus of named scalar signals.
+// events with error control or by its fixed step) and discrete controllers
+// (sim::Controller: loop programs run by the codegen interpreters, the arithmetic of the
+// generated code in double, float or fixed point, or any other) at their own rates,
+// joined by a bus of named scalar signals.
 //
 // At every controller tick t_k = k / rate the controller samples its inputs from the bus
 // (sensors are read from the plant at that instant, references evaluated at t_k), runs
@@ -45,26 +46,23 @@
 #include <Eigen/Core>
 
 #include "dmbd/base/error.hpp"
-#include "dmbd/codegen/fixed.hpp"
-#include "dmbd/codegen/loop_program.hpp"
 #include "dmbd/model/plant.hpp"
 #include "dmbd/model/thermal.hpp"
+#include "dmbd/sim/controller.hpp"
 #include "dmbd/sim/log.hpp"
 #include "dmbd/sim/signals.hpp"
 
 namespace dmbd::sim {
 
-enum class Scalar { Double, Float, Fixed };
-
+// A controller on the bus: its ports bound to bus signals (in its port order; an empty
+// output name publishes "<name>.<port>"), and its computation delay: an output computed
+// from the inputs sampled at t_k is applied at t_k + delay_s (0 <= delay <= one period).
 struct ControllerSpec {
   std::string name;
-  std::shared_ptr<const codegen::LoopProgram> program;  // lowered at rate_hz
-  Scalar scalar = Scalar::Double;
-  std::shared_ptr<const codegen::FixedProgram> fixed;   // when scalar == Fixed
-  double rate_hz = 1000;
-  double delay_s = 0;                 // computation delay: output applied this long after sampling
-  std::vector<std::string> inputs;    // bus signal per program input
-  std::vector<std::string> outputs;   // bus signal per program output
+  std::shared_ptr<Controller> controller;
+  double delay_s = 0;
+  std::vector<std::string> inputs;    // bus signal per controller input
+  std::vector<std::string> outputs;   // bus signal per controller output
   // Where the controller and each input binding were written ("file:line:col"; empty, or
   // input_where shorter than inputs, when unknown): errors about them start with it.
   std::string where;
