@@ -648,6 +648,35 @@ int run_analyze(const AnalyzeArgs& a) {
 
 }  // namespace
 
+// "dmbd analize": CLI11 would say only that a subcommand is required. One line naming
+// the word, the commands and the closest one.
+std::string unknown_command(CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return "";
+  const std::string word = argv[1];
+  std::string names, closest;
+  std::size_t best = std::string::npos;
+  for (const CLI::App* c : app.get_subcommands([](CLI::App*) { return true; })) {
+    if (c->get_name() == word) return "";
+    names += (names.empty() ? "" : ", ") + c->get_name();
+    // Edit distance (Levenshtein) to suggest the closest name.
+    const std::string& n = c->get_name();
+    std::vector<std::size_t> d(n.size() + 1);
+    for (std::size_t j = 0; j <= n.size(); ++j) d[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      std::size_t prev = d[0];
+      d[0] = i;
+      for (std::size_t j = 1; j <= n.size(); ++j) {
+        const std::size_t cur = d[j];
+        d[j] = std::min({d[j] + 1, d[j - 1] + 1, prev + (word[i - 1] == n[j - 1] ? 0 : 1)});
+        prev = cur;
+      }
+    }
+    if (d[n.size()] < best) best = d[n.size()], closest = n;
+  }
+  return "dmbd: error: unknown command '" + word + "' (expected one of: " + names + ")" +
+         (best <= 2 ? "; did you mean '" + closest + "'?" : "");
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"draco-mbd: model-based design for legged robots (block diagrams, analysis, code generation, "
                "simulation of the DRACO biped)",
@@ -727,6 +756,10 @@ int main(int argc, char** argv) {
   dmbd::apps::SimulateCommand simulate_cmd(app);  // dmbd simulate
   dmbd::apps::ReportCommand report_cmd(app);      // dmbd report
 
+  if (const std::string unknown = unknown_command(app, argc, argv); !unknown.empty()) {
+    std::cerr << unknown << "\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 
@@ -18,10 +20,19 @@
 namespace dmbd::apps {
 
 void print_report(const report::ReportResult& r, const std::string& out) {
+  for (const auto& w : r.warnings) std::cerr << "dmbd: warning: " << w << "\n";
   for (const auto& f : r.files)
     if (f.rfind("frames/", 0) != 0) std::cout << "wrote " << out << "/" << f << "\n";
   if (r.frames > 0) std::cout << fmt::format("wrote {}/frames/ ({} frames, rendered at {:.0f} frames/s)\n", out, r.frames, r.render_fps);
   std::cout << "report: " << r.page << "\n";
+}
+
+double parse_duration(const std::string& text) {
+  char* end = nullptr;
+  const double d = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(d) || !(d > 0))
+    throw InputError("--duration '" + text + "': expected a positive number of seconds");
+  return d;
 }
 
 SimulateCommand::SimulateCommand(CLI::App& app) {
@@ -30,7 +41,7 @@ SimulateCommand::SimulateCommand(CLI::App& app) {
   cmd_->add_option("scenario", scenario_, "A scenario file (YAML, docs/scenario-format.md)")->required();
   cmd_->add_option("--out", out_, "Output folder (created if missing)")->required();
   cmd_->add_flag("--no-frames", no_frames_, "Do not render frames or the video");
-  cmd_->add_option("--duration", duration_, "Simulated time of every variant (s), instead of the scenario's")->check(CLI::PositiveNumber);
+  cmd_->add_option("--duration", duration_text_, "Simulated time of every variant (s), instead of the scenario's");
 }
 
 bool SimulateCommand::selected() const { return cmd_->parsed(); }
@@ -50,9 +61,9 @@ int SimulateCommand::run() const {
     drawn = true;
   };
   try {
-    const sim::Scenario s = sim::load_scenario(scenario_);
     sim::ScenarioRunOptions o;
-    if (duration_ > 0) o.duration_s = duration_;
+    if (!duration_text_.empty()) o.duration_s = parse_duration(duration_text_);
+    const sim::Scenario s = sim::load_scenario(scenario_);
     o.on_progress = progress;
     const sim::ScenarioRun r = sim::run_scenario(s, out_, o);
     if (drawn) std::fprintf(stderr, "\n");

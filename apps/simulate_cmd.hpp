@@ -12,8 +12,11 @@
 
 namespace dmbd::apps {
 
-// The files a report wrote, one line each (frames as one line), and the page.
+// The files a report wrote, one line each (frames as one line), and the page; its
+// warnings on stderr.
 void print_report(const report::ReportResult& r, const std::string& out);
+// --duration: a finite positive number of seconds, else InputError.
+double parse_duration(const std::string& text);
 
 class SimulateCommand {
  public:
@@ -27,7 +30,7 @@ class SimulateCommand {
   CLI::App* cmd_ = nullptr;
   std::string scenario_, out_;
   bool no_frames_ = false;
-  double duration_ = 0;
+  std::string duration_text_;
 };
 
 }  // namespace dmbd::apps

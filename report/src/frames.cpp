@@ -155,6 +155,8 @@ Frames write_frames(const sim::ScenarioRun& run, const std::string& dir, const R
   const auto v = std::find_if(s.variants.begin(), s.variants.end(), [&](const auto& x) { return x.name == out.variant; });
   if (r == run.runs.end() || v == s.variants.end() || r->log.rows() == 0) return out;
   const model::RobotDescription robot = sim::variant_plant(s, *v).robot;
+  for (const auto& m : robot.meshes_missing)
+    out.warnings.push_back(fmt::format("{}: mesh '{}' could not be read: the frames draw the robot without it", robot.source, m));
   const PoseColumns cols = pose_columns(robot, *r, *v, s.file);
   const int w = options.width_px.value_or(s.frames.width_px), h = options.height_px.value_or(s.frames.height_px);
   const viz::Scene scene = scene_from_robot(robot);

@@ -74,13 +74,16 @@ ReportResult write_report(const sim::ScenarioRun& run, const std::string& dir, c
   std::error_code ec;
   fs::remove_all(d / "frames", ec);
   fs::remove(d / "video.mp4", ec);
+  res.warnings = run.experiment.warnings;
   if (options.frames && run.scenario.frames.enabled) {
     const detail::Frames f = detail::write_frames(run, dir, options);
     add_video(rep, f, res.files);
     res.frames = static_cast<int>(f.frames.size());
     res.render_fps = f.render_s > 0 ? static_cast<double>(f.frames.size()) / f.render_s : 0.0;
+    res.warnings.insert(res.warnings.end(), f.warnings.begin(), f.warnings.end());
   }
-  rep.notes = run.experiment.notes;
+  for (const auto& w : res.warnings) rep.notes.push_back("Warning: " + w);
+  rep.notes.insert(rep.notes.end(), run.experiment.notes.begin(), run.experiment.notes.end());
   rep.notes.push_back(std::string("Files: log.csv (every signal of every variant, with units), metrics.json, plots/") +
                       (res.frames > 0 ? ", frames/, video.mp4." : "."));
   res.page = (d / "report.html").string();

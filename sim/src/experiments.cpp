@@ -47,12 +47,12 @@ ExperimentResult step_response(const Scenario& s, const std::vector<VariantResul
   const double t_sine = number_or(e, "sine_start_s", -1), t_sine_end = number_or(e, "sine_end_s", -1);
   ExperimentResult res;
   plot::Figure step_fig(1200, 700), sine_fig(1200, 800);
-  step_fig.title = "Knee step response";
+  step_fig.title = "Step response, " + e.joint;
   auto& ax = step_fig.add_axes();
   ax.x_label = "Time (s)";
   ax.y_label = "Joint angle (rad)";
   ax.x_limits = std::make_pair(t_step - 0.05, std::min(t_step_end, t_step + 0.6));
-  sine_fig.title = "Knee sinusoid tracking";
+  sine_fig.title = "Sinusoid tracking, " + e.joint;
   auto& sx = sine_fig.add_axes();
   sx.x_label = "Time (s)";
   sx.y_label = "Joint angle (rad)";
@@ -60,7 +60,9 @@ ExperimentResult step_response(const Scenario& s, const std::vector<VariantResul
   sxe.x_label = "Time (s)";
   sxe.y_label = "Tracking error (rad)";
   bool ref_drawn = false;
-  for (const auto& r : runs) {
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const auto& r = runs[k];
+    const plot::Color color = plot::palette_color(k);  // one colour per variant in every figure
     const auto& t = r.log.time();
     const auto& rv = signal(r, ref, s.file);
     const auto& y = signal(r, out, s.file);
@@ -75,13 +77,17 @@ ExperimentResult step_response(const Scenario& s, const std::vector<VariantResul
       if (t_sine >= 0) sx.series.push_back({"reference", t, rv, plot::Color{1, 1, 1}, 1.5, true});
       ref_drawn = true;
     }
-    ax.series.push_back({r.name, t, y});
+    ax.series.push_back({r.name, t, y, color});
     if (t_sine >= 0) {
       std::vector<double> err(t.size());
-      for (std::size_t k = 0; k < t.size(); ++k) err[k] = y[k] - rv[k];
-      sx.series.push_back({r.name, t, y});
-      sxe.series.push_back({r.name, t, err});
+      for (std::size_t i = 0; i < t.size(); ++i) err[i] = y[i] - rv[i];
+      sx.series.push_back({r.name, t, y, color});
+      sxe.series.push_back({r.name, t, err, color});
     }
+    if (t.back() < t_step_end || (t_sine >= 0 && t.back() < t_sine_end))
+      res.warnings.push_back(fmt::format("variant '{}' ends at {} s, before the end of the experiment's windows ({} s): its step and "
+                                         "tracking figures are of the part it ran (inf or NaN where a figure was not reached)",
+                                         r.name, t.back(), std::max(t_step_end, t_sine_end)));
   }
   if (t_sine >= 0) {
     sx.x_limits = sxe.x_limits = std::make_pair(t_sine, t_sine_end);

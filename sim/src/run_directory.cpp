@@ -173,7 +173,6 @@ std::vector<Log> split_csv(const std::string& csv, const std::vector<std::string
 }
 
 ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const ScenarioRunOptions& options) {
-  make_dir(dir);
   ScenarioRun res;
   res.scenario = s;
   double total = 0, done = 0;
@@ -182,7 +181,9 @@ ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const Scenar
     res.runs.push_back(run_one(s, v, options, done, total));
     done += options.duration_s.value_or(v.duration_s);
   }
+  // Only now the folder: a scenario that fails to build or diverges leaves none behind.
   // The log first: it is there to look at even when the experiment's analysis fails.
+  make_dir(dir);
   write_file_atomic((fs::path(dir) / "log.csv").string(), combined_csv(res.runs));
   res.files.push_back("log.csv");
   res.experiment = evaluate_experiment(s, res.runs);

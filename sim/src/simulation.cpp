@@ -360,11 +360,18 @@ std::vector<unsigned long long> Simulation::controller_clamp_events() const {
 
 Log Simulation::run(const std::function<void(double)>& on_progress) {
   Impl& m = *impl_;
+  if (!(m.spec.duration_s < 1e9)) throw InputError(fmt::format("duration {} s is out of range (the event grid counts nanoseconds: below 1e9 s)", m.spec.duration_s));
   const Ns end = static_cast<Ns>(std::llround(m.spec.duration_s * 1e9));
   if (end <= 0) throw InputError(fmt::format("duration {} s is not positive", m.spec.duration_s));
   const Ns log_period = period_ns(m.spec.log_rate_hz, "log");
   const Ns t0 = static_cast<Ns>(std::llround(m.plant.time() * 1e9));
 
+  // The log is kept in memory: refuse one that cannot fit rather than fail midway.
+  const double values = (static_cast<double>(end / log_period) + 2) * static_cast<double>(m.names.size() + 1);
+  constexpr double kMaxLogValues = 2.5e8;  // 2 GB of doubles
+  if (values > kMaxLogValues)
+    throw InputError(fmt::format("a {} s run logged at {} Hz would hold {:.3g} values ({:.3g} GB, the limit is 2 GB): shorten duration_s "
+                                 "or lower log_rate_hz", m.spec.duration_s, m.spec.log_rate_hz, values, values * 8 / 1e9));
   Log log;
   for (std::size_t s = 0; s < m.names.size(); ++s) log.add_column(m.names[s], m.units[s]);
   log.reserve(static_cast<std::size_t>(end / log_period) + 2);

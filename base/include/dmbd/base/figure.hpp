@@ -4,6 +4,7 @@
 // experiments, dmbd analyze) fill one in; dmbd::viz draws it (viz::Figure adds
 // render() and save_png()); report/ puts it on a page. Sizes are in pixels of the
 // image it will be drawn as (suffix _px).
+#include <cstddef>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,14 @@ namespace dmbd::plot {
 struct Color {
   unsigned char r = 0, g = 0, b = 0;
 };
+
+// The automatic series colours (matplotlib's tab10), cycling every 10: give a series
+// palette_color(k) explicitly to keep one colour per variant across figures.
+inline Color palette_color(std::size_t index) {
+  static constexpr Color kTab10[] = {{31, 119, 180}, {255, 127, 14},  {44, 160, 44},   {214, 39, 40},  {148, 103, 189},
+                                     {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
+  return kTab10[index % 10];
+}
 
 enum class Scale { Linear, Log };
 

@@ -28,6 +28,9 @@ struct ReportResult {
   std::string page;                // DIR/report.html
   int frames = 0;
   double render_fps = 0;           // frames rendered per wall-clock second (0: none)
+  // The experiment's warnings and the report's own (a mesh the robot is drawn without),
+  // one line each; also on the page.
+  std::vector<std::string> warnings;
 };
 
 // Throws InputError for a scenario the frames cannot be drawn from (a joint of the

@@ -26,6 +26,9 @@ struct ExperimentResult {
   // File name in plots/ -> the figure as data (report/ draws it; sim draws nothing).
   std::vector<std::pair<std::string, plot::Figure>> figures;
   std::vector<std::string> notes;                            // one line each, for the report
+  // Outcomes the user should not miss (a run shorter than the experiment's windows):
+  // one line each, printed by dmbd simulate and listed in the report.
+  std::vector<std::string> warnings;
 };
 
 // Step metrics of y following a step of r at t_step, over the window [t_step, t_end)
