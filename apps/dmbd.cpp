@@ -827,6 +827,8 @@ int main(int argc, char** argv) {
     if (*draw) {
       const b::ParameterMap params = parse_params(draw_params);
       if (fs_parent_missing(draw_out)) throw InputError("--out '" + draw_out + "': the folder does not exist");
+      if (std::filesystem::path(draw_out).extension() != ".png")
+        throw InputError("--out '" + draw_out + "': dmbd draw writes PNG images (expected a file name ending in .png)");
       const auto d = dmbd::diagrams::Diagram::load(draw_file, params);
       dmbd::viz::save_diagram_png(dmbd::apps::diagram_picture(*d), draw_out);
       std::cout << "wrote " << draw_out << "\n";

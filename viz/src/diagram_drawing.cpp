@@ -18,6 +18,26 @@ constexpr int kLayerGap = 110, kRowGap = 50, kMargin = 50, kLane = 26;
 const cv::Scalar kInk(40, 40, 40), kBlue(180, 119, 31), kGrey(120, 120, 120), kFill(250, 244, 236),
     kIoFill(236, 246, 236);
 
+int text_width(const std::string& text, double scale, int thickness) {
+  int base = 0;
+  return cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &base).width;
+}
+
+int widest(const std::vector<std::string>& labels, double scale) {
+  int w = 0;
+  for (const auto& l : labels) w = std::max(w, text_width(l, scale, 1));
+  return w;
+}
+
+// Wide enough for its name, kind and summary (up to 360 px: longer summaries end in an
+// ellipsis) between the port names on either side (written where a block has several).
+int block_width(const DiagramPicture::Block& b) {
+  const int centre = std::max({text_width(b.name, 0.62, 2), text_width(b.kind, 0.45, 1), std::min(360, text_width(b.summary, 0.4, 1))});
+  const int in = b.input_labels.size() > 1 ? widest(b.input_labels, 0.4) + 8 : 0;
+  const int out = b.output_labels.size() > 1 ? widest(b.output_labels, 0.4) + 8 : 0;
+  return std::max(kBoxW, centre + 2 * std::max(in, out) + 24);
+}
+
 // Fit text into a width by shortening it with an ellipsis.
 std::string fit(const std::string& text, double scale, int thickness, int width) {
   int base = 0;
@@ -58,11 +78,12 @@ DiagramLayout layout_diagram(const DiagramPicture& d) {
   auto node_of = [&](const DiagramPicture::Source& s) { return s.block < 0 ? s.port : ni + s.block; };
   for (int bi = 0; bi < nb; ++bi) {
     const auto& drv = d.drivers[static_cast<size_t>(bi)];
-    for (size_t k = 0; k < drv.size(); ++k) L.edges.push_back({node_of(drv[k]), ni + bi, drv[k].port, static_cast<int>(k), false, {}});
+    for (size_t k = 0; k < drv.size(); ++k)
+      L.edges.push_back({node_of(drv[k]), ni + bi, drv[k].block < 0 ? 0 : drv[k].port, static_cast<int>(k), false, {}});
   }
   for (int j = 0; j < no; ++j) {
     const auto& src = d.output_drivers[static_cast<size_t>(j)];
-    L.edges.push_back({node_of(src), ni + nb + j, src.port, 0, false, {}});
+    L.edges.push_back({node_of(src), ni + nb + j, src.block < 0 ? 0 : src.port, 0, false, {}});
   }
   const int n = static_cast<int>(L.nodes.size());
 
@@ -149,8 +170,14 @@ DiagramLayout layout_diagram(const DiagramPicture& d) {
     }
   }
 
-  // Coordinates: each layer a column, its nodes stacked with their own heights (a block
-  // grows with its number of ports), columns centred vertically.
+  // Coordinates: each layer a column as wide as its widest node, its nodes stacked with
+  // their own heights (a block grows with its number of ports), columns centred
+  // vertically; the gap before a column widens with the wires that turn in it.
+  auto width_of = [&](const DiagramLayout::Node& nd) {
+    if (nd.kind == 3) return 2;
+    if (nd.kind != 1) return std::max(kIoW, text_width(nd.kind == 0 ? d.inputs[static_cast<size_t>(nd.index)] : d.outputs[static_cast<size_t>(nd.index)], 0.55, 1) + 24);
+    return block_width(d.blocks[static_cast<size_t>(nd.index)]);
+  };
   auto height_of = [&](const DiagramLayout::Node& nd) {
     if (nd.kind == 3) return 2;
     if (nd.kind != 1) return kIoH;
@@ -164,13 +191,25 @@ DiagramLayout layout_diagram(const DiagramPicture& d) {
   const int body = *std::max_element(column.begin(), column.end());
   int nfb = 0;
   for (const auto& e : L.edges) nfb += e.feedback ? 1 : 0;
-  L.size = cv::Size(2 * kMargin + L.layers * (kBoxW + kLayerGap), 2 * kMargin + 20 + body + nfb * kLane + 30);
+  std::vector<int> turns(static_cast<size_t>(L.layers), 0);  // forward wires arriving in each column
+  for (const auto& [from, to] : segments) ++turns[static_cast<size_t>(L.nodes[static_cast<size_t>(to)].layer)];
+  L.column_x.assign(static_cast<size_t>(L.layers), 0);
+  L.column_w.assign(static_cast<size_t>(L.layers), kIoW);
+  for (size_t l = 0; l < layer.size(); ++l)
+    for (int v : layer[l]) L.column_w[l] = std::max(L.column_w[l], width_of(L.nodes[static_cast<size_t>(v)]));
+  int x = kMargin;
+  for (size_t l = 0; l < layer.size(); ++l) {
+    if (l > 0) x += std::max(kLayerGap, 12 * (turns[l] + 1));
+    L.column_x[l] = x;
+    x += L.column_w[l];
+  }
+  L.size = cv::Size(x + kMargin, 2 * kMargin + 20 + body + nfb * kLane + 30);
   for (size_t l = 0; l < layer.size(); ++l) {
     int y = kMargin + 20 + (body - column[l]) / 2;
     for (int v : layer[l]) {
       auto& nd = L.nodes[static_cast<size_t>(v)];
-      const int cx = kMargin + nd.layer * (kBoxW + kLayerGap) + kBoxW / 2;
-      const int w = nd.kind == 1 || nd.kind == 3 ? kBoxW : kIoW, h = height_of(nd);
+      const int cx = L.column_x[l] + L.column_w[l] / 2;
+      const int w = nd.kind == 3 ? L.column_w[l] : width_of(nd), h = height_of(nd);
       const int slot = h + kRowGap;
       nd.box = cv::Rect(cx - w / 2, y + (slot - h) / 2, w, h);
       y += slot;
@@ -197,30 +236,53 @@ cv::Mat draw_diagram(const DiagramPicture& d) {
     return cv::Point(output ? nd.box.x + nd.box.width : nd.box.x, y);
   };
 
-  // Connections.
+  // Forward connections: through their bend points, each turning on its own vertical
+  // lane in the gap before the column it enters (lanes ordered by where they arrive, so
+  // wires do not share a segment); feedback connections in lanes below.
+  struct Hop {
+    std::size_t edge;
+    cv::Point leave, arrive;
+    int layer, x = 0;
+  };
+  std::vector<Hop> hops;
+  for (std::size_t i = 0; i < L.edges.size(); ++i) {
+    const auto& e = L.edges[i];
+    const cv::Point a = port_point(e.from, e.from_port, true), b = port_point(e.to, e.to_port, false);
+    if (e.feedback || b.x <= a.x) continue;
+    cv::Point leave = a;
+    for (int v : e.via) {
+      const auto& nd = L.nodes[static_cast<size_t>(v)];
+      hops.push_back({i, leave, {nd.box.x, nd.box.y}, nd.layer});
+      leave = {nd.box.x + nd.box.width, nd.box.y};
+    }
+    hops.push_back({i, leave, b, L.nodes[static_cast<size_t>(e.to)].layer});
+  }
+  for (int l = 1; l < L.layers; ++l) {
+    std::vector<Hop*> in;
+    for (auto& h : hops)
+      if (h.layer == l) in.push_back(&h);
+    std::stable_sort(in.begin(), in.end(), [](const Hop* p, const Hop* q) {
+      return p->arrive.y != q->arrive.y ? p->arrive.y < q->arrive.y : p->leave.y < q->leave.y;
+    });
+    const int x0 = L.column_x[static_cast<size_t>(l - 1)] + L.column_w[static_cast<size_t>(l - 1)], x1 = L.column_x[static_cast<size_t>(l)];
+    for (std::size_t k = 0; k < in.size(); ++k)
+      in[k]->x = x0 + static_cast<int>((static_cast<double>(k) + 1) * (x1 - x0) / (static_cast<double>(in.size()) + 1));
+  }
   int lane = 0;
   const int bottom = L.size.height - kMargin;
-  for (const auto& e : L.edges) {
+  for (std::size_t i = 0; i < L.edges.size(); ++i) {
+    const auto& e = L.edges[i];
     const cv::Point a = port_point(e.from, e.from_port, true), b = port_point(e.to, e.to_port, false);
-    std::vector<cv::Point> path;
-    if (!e.feedback && b.x > a.x) {
-      // Through the bend points: enter each on its left, leave on its right.
-      std::vector<std::pair<cv::Point, cv::Point>> hops;  // (leave, arrive)
-      cv::Point leave = a;
-      for (int v : e.via) {
-        const cv::Rect& r = L.nodes[static_cast<size_t>(v)].box;
-        hops.push_back({leave, {r.x, r.y}});
-        leave = {r.x + r.width, r.y};
-      }
-      hops.push_back({leave, b});
-      path = {a};
-      for (const auto& [p, q] : hops) {
-        const int mx = q.x - kLayerGap / 2 + 10 * (e.to_port % 3);
-        path.push_back({mx, p.y});
-        path.push_back({mx, q.y});
-        path.push_back(q);
-      }
-    } else {
+    std::vector<cv::Point> path{a};
+    bool routed = false;
+    for (const auto& h : hops) {
+      if (h.edge != i) continue;
+      routed = true;
+      path.push_back({h.x, h.leave.y});
+      path.push_back({h.x, h.arrive.y});
+      path.push_back(h.arrive);
+    }
+    if (!routed) {
       const int y = bottom - lane * kLane;
       ++lane;
       path = {a, {a.x + 20 + 6 * lane, a.y}, {a.x + 20 + 6 * lane, y}, {b.x - 24 - 6 * lane, y}, {b.x - 24 - 6 * lane, b.y}, b};

@@ -48,6 +48,7 @@ struct DiagramLayout {
   std::vector<Node> nodes;
   std::vector<Edge> edges;
   int layers = 0;
+  std::vector<int> column_x, column_w;  // each layer's column: left edge and width (pixels)
   cv::Size size;
 };
 
