@@ -74,7 +74,8 @@ ReportResult write_report(const sim::ScenarioRun& run, const std::string& dir, c
   std::error_code ec;
   fs::remove_all(d / "frames", ec);
   fs::remove(d / "video.mp4", ec);
-  res.warnings = run.experiment.warnings;
+  for (const auto& r : run.runs) res.warnings.insert(res.warnings.end(), r.warnings.begin(), r.warnings.end());
+  res.warnings.insert(res.warnings.end(), run.experiment.warnings.begin(), run.experiment.warnings.end());
   if (options.frames && run.scenario.frames.enabled) {
     const detail::Frames f = detail::write_frames(run, dir, options);
     add_video(rep, f, res.files);
@@ -83,6 +84,11 @@ ReportResult write_report(const sim::ScenarioRun& run, const std::string& dir, c
     res.warnings.insert(res.warnings.end(), f.warnings.begin(), f.warnings.end());
   }
   for (const auto& w : res.warnings) rep.notes.push_back("Warning: " + w);
+  for (const auto& r : run.runs)
+    for (const auto& f : r.fixed_point)
+      rep.notes.push_back(fmt::format("Run {}: controller '{}' in {}-bit fixed point: predicted error bound on '{}' over the run {:.4g} {} "
+                                      "(range +-{:.4g} {}; it holds while no saturation engages).",
+                                      r.name, f.controller, f.word_bits, f.output, f.bound, f.unit, f.range, f.unit));
   rep.notes.insert(rep.notes.end(), run.experiment.notes.begin(), run.experiment.notes.end());
   rep.notes.push_back(std::string("Files: log.csv (every signal of every variant, with units), metrics.json, plots/") +
                       (res.frames > 0 ? ", frames/, video.mp4." : "."));

@@ -36,7 +36,18 @@ nlohmann::json run_json(const VariantResult& r) {
   j["controller_clamp_events"] = r.clamp_events;
   j["truth"] = nlohmann::json::object();
   for (const auto& [k, v] : r.truth) j["truth"][k] = v;
+  for (const auto& f : r.fixed_point)
+    j["fixed_point"].push_back({{"controller", f.controller}, {"output", f.output}, {"unit", f.unit}, {"word_bits", f.word_bits},
+                                {"error_bound", f.bound}, {"range", f.range}});
+  if (!r.warnings.empty()) j["warnings"] = r.warnings;
   return j;
+}
+
+// A number written by finite_json ("inf", "NaN" as strings) read back.
+double number_of(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  const std::string t = j.is_string() ? j.get<std::string>() : "NaN";
+  return t == "inf" ? HUGE_VAL : (t == "-inf" ? -HUGE_VAL : std::nan(""));
 }
 
 nlohmann::json metrics_json(const Scenario& s, const std::vector<VariantResult>& runs, const ExperimentResult& e) {
@@ -222,7 +233,12 @@ ScenarioRun read_run(const std::string& dir) {
     r.controller_steps = j.value("controller_steps", std::vector<long long>{});
     r.clamp_events = j.value("controller_clamp_events", std::vector<unsigned long long>{});
     if (j.contains("truth"))
-      for (auto it = j["truth"].begin(); it != j["truth"].end(); ++it) r.truth[it.key()] = it.value().get<double>();
+      for (auto it = j["truth"].begin(); it != j["truth"].end(); ++it) r.truth[it.key()] = number_of(it.value());
+    if (j.contains("fixed_point"))
+      for (const auto& f : j["fixed_point"])
+        r.fixed_point.push_back({f.value("controller", ""), f.value("output", ""), f.value("unit", ""), f.value("word_bits", 0),
+                                 number_of(f["error_bound"]), number_of(f["range"])});
+    r.warnings = j.value("warnings", std::vector<std::string>{});
     res.runs.push_back(std::move(r));
   }
   res.experiment = evaluate_experiment(res.scenario, res.runs);

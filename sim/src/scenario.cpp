@@ -1,6 +1,8 @@
 // Scenario files: parsing (with file:line:column in every message) and running a variant.
 #include "dmbd/sim/scenario.hpp"
 
+#include "variant_controllers.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -614,57 +616,9 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   spec.force_noise_N = v.force_noise_N;
   spec.cooling = v.cooling;
   for (const auto& c : v.controllers) {
-    blocks::ParameterMap overrides;
-    for (const auto& [k, val] : c.parameters) overrides[k] = val;
-    const auto d = diagrams::Diagram::load(c.diagram, overrides);
-    codegen::LowerOptions lo;
-    lo.rate_hz = c.rate_hz;
-    if (d->discretization()) lo.method = *d->discretization();
-    auto program = std::make_shared<codegen::LoopProgram>(codegen::lower(*d, lo));
-    ControllerSpec cs;
-    cs.name = c.name;
-    cs.delay_s = c.delay_s;
-    const std::string cwhere = c.where.empty() ? s.file : c.where;
-    std::shared_ptr<const codegen::FixedProgram> fixed;
-    if (c.scalar == Scalar::Fixed) {
-      std::vector<std::pair<double, double>> ranges;
-      for (const auto& in : d->inputs())
-        for (int k = 0; k < in.size; ++k) ranges.push_back(in.range.value_or(std::make_pair(-1.0, 1.0)));
-      fixed = std::make_shared<codegen::FixedProgram>(codegen::make_fixed(*program, ranges, c.word_bits));
-    }
-    try {
-      cs.controller = loop_program_controller(program, c.scalar, fixed);
-    } catch (InputError& e) {
-      e.prepend(cwhere + ": controller '" + c.name + "': ");
-      throw;
-    }
-    cs.where = cwhere;
-    // Program ports in the diagram's order -> bus signals (and where each was bound).
-    auto bind = [&](const std::vector<diagrams::SignalSpec>& ports, const std::vector<std::pair<std::string, std::string>>& given,
-                    const std::vector<std::string>& given_where, const char* side, std::vector<std::string>* port_where) {
-      std::vector<std::string> out;
-      const auto where_of = [&](std::size_t k) { return k < given_where.size() && !given_where[k].empty() ? given_where[k] : cwhere; };
-      for (const auto& port : ports) {
-        const auto it = std::find_if(given.begin(), given.end(), [&](const auto& g) { return g.first == port.name; });
-        if (it == given.end()) {
-          if (std::string(side) == "outputs") {
-            out.emplace_back();
-            continue;
-          }
-          throw InputError(cwhere + ": controller '" + c.name + "': input '" + port.name + "' of " + c.diagram + " is not bound");
-        }
-        out.push_back(it->second);
-        if (port_where) port_where->push_back(where_of(static_cast<std::size_t>(it - given.begin())));
-      }
-      for (std::size_t k = 0; k < given.size(); ++k)
-        if (std::none_of(ports.begin(), ports.end(), [&](const auto& p) { return p.name == given[k].first; }))
-          throw InputError(where_of(k) + ": controller '" + c.name + "': " + c.diagram + " has no " +
-                           std::string(side).substr(0, std::string(side).size() - 1) + " '" + given[k].first + "'");
-      return out;
-    };
-    cs.inputs = bind(d->inputs(), c.inputs, c.input_where, "inputs", &cs.input_where);
-    cs.outputs = bind(d->outputs(), c.outputs, c.output_where, "outputs", nullptr);
-    spec.controllers.push_back(cs);
+    VariantController vc = variant_controller(s, c, spec.duration_s);
+    spec.controllers.push_back(std::move(vc.spec));
+    res.fixed_point.insert(res.fixed_point.end(), vc.fixed_point.begin(), vc.fixed_point.end());
   }
 
   Simulation sim(plant, spec);
@@ -676,6 +630,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   res.integrator_steps = plant.integrator_steps() - steps0;
   res.controller_steps = sim.controller_steps();
   res.clamp_events = sim.controller_clamp_events();
+  fixed_point_warnings(res);
   return res;
 }
 

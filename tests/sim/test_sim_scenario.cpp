@@ -547,6 +547,38 @@ TEST(SimScenarioRun, WritesTheRunDirectoryAndReadsItBack) {
   EXPECT_EQ(back.experiment.figures[0].second.axes()[0].series[0].y, r.experiment.figures[0].second.axes()[0].series[0].y);
 }
 
+// Issue 13, item 7: a fixed-point controller's predicted error bound over the run is in
+// metrics.json (and read back), and a bound beyond the output's range is a warning. The
+// DOB force controller in 16 bits: its bound (380 A over 0.05 s at 2 kHz) far exceeds
+// its +-22 A; in 32 bits it is far inside.
+TEST(SimScenarioRun, FixedPointBoundIsReportedAndABoundBeyondTheRangeWarns) {
+  TempDir dir;
+  auto scenario = [&](int bits) {
+    const std::string path = dir.file("f" + std::to_string(bits) + ".yaml");
+    write_text(path, "name: fd\nrobot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
+                     "initial: {l_knee: 1.0}, lock: {l_knee: 1.0}}\nduration_s: 0.05\nreferences:\n  F_d: {type: constant, value: 100}\n"
+                     "controllers:\n  - name: force\n    diagram: " + kSourceDir + "/examples/diagrams/dob_controller.yaml\n"
+                     "    rate_hz: 2000\n    scalar: fixed\n    word_bits: " + std::to_string(bits) + "\n"
+                     "    inputs: {F_d: F_d, F_m: l_knee.force}\n    outputs: {i: l_knee.current}\n");
+    return load_scenario(path);
+  };
+  const auto r16 = dmbd::sim::run_scenario(scenario(16), dir.file("o16"));
+  ASSERT_EQ(r16.runs[0].fixed_point.size(), 1u);
+  const auto& f = r16.runs[0].fixed_point[0];
+  EXPECT_EQ(f.controller, "force");
+  EXPECT_EQ(f.output, "i");
+  EXPECT_EQ(f.range, 22.0);
+  EXPECT_GT(f.bound, f.range);
+  ASSERT_EQ(r16.runs[0].warnings.size(), 1u);
+  EXPECT_NE(r16.runs[0].warnings[0].find("16-bit"), std::string::npos);
+  const auto back = dmbd::sim::read_run(dir.file("o16"));
+  EXPECT_EQ(back.runs[0].fixed_point[0].bound, f.bound);
+  EXPECT_EQ(back.runs[0].warnings, r16.runs[0].warnings);
+  const auto r32 = dmbd::sim::run_scenario(scenario(32), dir.file("o32"));
+  EXPECT_LT(r32.runs[0].fixed_point[0].bound, 1.0);
+  EXPECT_TRUE(r32.runs[0].warnings.empty());
+}
+
 // Several variants, logged at different rates, split back out of the combined table.
 TEST(SimScenarioRun, SplitCsvInvertsCombinedCsv) {
   TempDir dir;

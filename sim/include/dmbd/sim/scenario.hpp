@@ -129,6 +129,16 @@ struct Scenario {
 Scenario load_scenario(const std::string& path);
 
 // One run of one variant.
+// A controller run in fixed point: its predicted error bound on each output over the
+// run (codegen::predicted_error_bound, horizon = the run's steps up to 200000; the
+// bound holds while no saturation engages) against each output's range.
+struct FixedPointFacts {
+  std::string controller, output, unit;
+  int word_bits = 0;
+  double bound = 0;                            // +inf: none (an integrator in the loop)
+  double range = 0;                            // the output's largest magnitude (its declared range)
+};
+
 struct VariantResult {
   std::string name;
   std::vector<std::pair<std::string, std::string>> axes;
@@ -139,6 +149,8 @@ struct VariantResult {
   std::vector<long long> controller_steps;
   std::vector<unsigned long long> clamp_events;
   std::map<std::string, double> truth;         // the simulator's true values the experiment may need
+  std::vector<FixedPointFacts> fixed_point;    // per fixed-point controller output
+  std::vector<std::string> warnings;           // one line each (a fixed-point bound beyond its range)
 };
 
 struct RunOptions {
