@@ -945,43 +945,54 @@ class Loader {
   }
 
   // ---- algebraic loops ----------------------------------------------------------------------
+  // Depth-first search for cycles of feedthrough edges, with an explicit stack: a chain of
+  // tens of thousands of blocks must not overflow the call stack (issue 13).
   void algebraic_loops() {
     const auto& bl = d_->blocks_;
-    const int n = static_cast<int>(bl.size());
+    const size_t n = bl.size();
     // Edge a -> b when an output of a drives a feedthrough input of b.
-    std::vector<std::vector<int>> next(static_cast<size_t>(n));
-    for (int bi = 0; bi < n; ++bi) {
-      const auto& drv = d_->drivers_[static_cast<size_t>(bi)];
+    std::vector<std::vector<int>> next(n);
+    for (size_t bi = 0; bi < n; ++bi) {
+      const auto& drv = d_->drivers_[bi];
       for (size_t k = 0; k < drv.size(); ++k)
-        if (drv[k].block >= 0 && bl[static_cast<size_t>(bi)].feedthrough[k])
-          next[static_cast<size_t>(drv[k].block)].push_back(bi);
+        if (drv[k].block >= 0 && bl[bi].feedthrough[k]) next[static_cast<size_t>(drv[k].block)].push_back(static_cast<int>(bi));
     }
-    std::vector<int> state(static_cast<size_t>(n), 0), stack;
+    std::vector<int> state(n, 0), path;  // 0 new, 1 on the path, 2 done; path: the current DFS path
+    std::vector<size_t> edge(n, 0);      // the next edge to follow from each vertex on the path
     std::set<std::set<int>> reported;
-    std::function<void(int)> dfs = [&](int v) {
-      state[static_cast<size_t>(v)] = 1;
-      stack.push_back(v);
-      for (int w : next[static_cast<size_t>(v)]) {
+    for (size_t root = 0; root < n; ++root) {
+      if (state[root] != 0) continue;
+      state[root] = 1;
+      path.push_back(static_cast<int>(root));
+      while (!path.empty()) {
+        const auto v = static_cast<size_t>(path.back());
+        if (edge[v] == next[v].size()) {
+          state[v] = 2;
+          path.pop_back();
+          continue;
+        }
+        const int w = next[v][edge[v]++];
         if (state[static_cast<size_t>(w)] == 1) {
-          auto it = std::find(stack.begin(), stack.end(), w);
-          std::set<int> members(it, stack.end());
-          if (reported.insert(members).second) {
-            std::string names;
-            for (auto j = it; j != stack.end(); ++j) names += bl[static_cast<size_t>(*j)].name + " -> ";
-            names += bl[static_cast<size_t>(w)].name;
-            error(bl[static_cast<size_t>(w)].where,
-                  "algebraic loop: " + names + " (every block in the loop has direct feedthrough; add a delay, a "
-                  "filter or a state)");
-          }
+          report_loop(path, w, reported);
         } else if (state[static_cast<size_t>(w)] == 0) {
-          dfs(w);
+          state[static_cast<size_t>(w)] = 1;
+          path.push_back(w);
         }
       }
-      stack.pop_back();
-      state[static_cast<size_t>(v)] = 2;
-    };
-    for (int v = 0; v < n; ++v)
-      if (state[static_cast<size_t>(v)] == 0) dfs(v);
+    }
+  }
+
+  // The loop closed by an edge from the end of `path` back to w (once per set of blocks).
+  void report_loop(const std::vector<int>& path, int w, std::set<std::set<int>>& reported) {
+    const auto& bl = d_->blocks_;
+    const auto it = std::find(path.begin(), path.end(), w);
+    if (!reported.insert(std::set<int>(it, path.end())).second) return;
+    std::string names;
+    for (auto j = it; j != path.end(); ++j) names += bl[static_cast<size_t>(*j)].name + " -> ";
+    names += bl[static_cast<size_t>(w)].name;
+    error(bl[static_cast<size_t>(w)].where,
+          "algebraic loop: " + names + " (every block in the loop has direct feedthrough; add a delay, a "
+          "filter or a state)");
   }
 
   std::string path_;

@@ -252,6 +252,26 @@ TEST(LoadErrors, AlgebraicLoopNamesTheBlocks) {
   EXPECT_TRUE(diagnostics_are(bad("algebraic_loop.yaml"), {{5, 3, "algebraic loop: err -> k1 -> k2 -> err"}}));
 }
 
+// Issue 13: the loop search used to recurse once per block of a chain and overflowed
+// the stack on a long one (30,000 gains under AddressSanitizer). It is iterative now.
+TEST(LoadErrors, AlgebraicLoopSearchOnALongChainDoesNotRecurse) {
+  const int n = 20000;
+  std::string yaml = "name: chain\ninputs: {u: {}}\noutputs: {y: {}}\nblocks:\n  err: {type: sum, signs: \"+-\"}\n";
+  for (int k = 0; k < n; ++k) yaml += "  g" + std::to_string(k) + ": {type: gain, k: 1}\n";
+  yaml += "connections:\n  - u -> err.in1\n  - err -> g0\n";
+  for (int k = 1; k < n; ++k) yaml += "  - g" + std::to_string(k - 1) + " -> g" + std::to_string(k) + "\n";
+  yaml += "  - g" + std::to_string(n - 1) + " -> [err.in2, y]\n";
+  try {
+    (void)Diagram::parse(yaml, "chain.yaml");
+    ADD_FAILURE() << "no DiagramError";
+  } catch (const DiagramError& e) {
+    ASSERT_EQ(e.diagnostics().size(), 1u);
+    const std::string msg = e.diagnostics()[0].str();
+    EXPECT_EQ(msg.rfind("chain.yaml:5:3: error: algebraic loop: err -> g0 -> g1 -> ", 0), 0u) << msg.substr(0, 200);
+    EXPECT_NE(msg.find("g19999 -> err (every block"), std::string::npos);
+  }
+}
+
 TEST(LoadErrors, AlgebraicLoopThroughASubsystemWithFeedthrough) {
   EXPECT_TRUE(
       diagnostics_are(bad("algebraic_loop_through_subsystem.yaml"), {{5, 3, "algebraic loop: err -> amp -> err"}}));
