@@ -71,6 +71,11 @@ int Diagram::find_output(const std::string& n) const {
   return -1;
 }
 
+// A delay of n samples is a dense n x n state-space model, a sum of k inputs of size m
+// an m x km gain: bounded so that a short file cannot ask for gigabytes.
+constexpr int kMaxDelaySamples = 1000;
+constexpr int kMaxSumEntries = 10000000;
+
 // Builds one Diagram, collecting every problem before throwing.
 class Loader {
  public:
@@ -488,6 +493,11 @@ class Loader {
         }
         const int size = blk["size"] ? integer(blk["size"], "size", 1, 1000, 1) : 1;
         const int k = static_cast<int>(signs.size());
+        if (static_cast<double>(size) * size * k > kMaxSumEntries) {
+          error(blk["signs"], "block '" + bl.name + "': " + std::to_string(k) + " inputs of size " + std::to_string(size) +
+                                  " make a matrix of more than " + std::to_string(kMaxSumEntries) + " entries");
+          return;
+        }
         b::Matrix d = b::Matrix::Zero(size, size * k);
         for (int i = 0; i < k; ++i) {
           bl.inputs.push_back({"in" + std::to_string(i + 1), size});
@@ -604,7 +614,7 @@ class Loader {
             error(blk["samples"], "'samples' needs a discrete diagram (a sample_time); use 'seconds'");
             return;
           }
-          bl.delay_samples = integer(blk["samples"], "samples", 0, 100000, 0);
+          bl.delay_samples = integer(blk["samples"], "samples", 0, kMaxDelaySamples, 0);
           bl.delay_s = bl.delay_samples * ts;
         } else {
           bl.delay_s = number(blk["seconds"], "seconds");
@@ -618,6 +628,11 @@ class Loader {
             if (std::abs(n - std::round(n)) > 1e-6 * std::max(1.0, n)) {
               error(blk["seconds"], "a delay of " + std::to_string(bl.delay_s) + " s is not a whole number of samples of " +
                                         std::to_string(ts) + " s");
+              return;
+            }
+            if (n > kMaxDelaySamples) {
+              error(blk["seconds"], "a delay of " + std::to_string(bl.delay_s) + " s is more than " +
+                                        std::to_string(kMaxDelaySamples) + " samples of " + std::to_string(ts) + " s");
               return;
             }
             bl.delay_samples = static_cast<int>(std::round(n));

@@ -55,10 +55,14 @@ struct Reader {
     if (!k.IsScalar()) fail(k, what + ": a key must be a name, not a list, a map or empty");
     return k.Scalar();
   }
-  // A list to iterate (yaml-cpp iterates a map as pairs whose nodes are unusable).
-  YAML::Node list(const YAML::Node& n, const std::string& what) const {
-    if (!n.IsSequence()) fail(n, what + ": expected a list");
-    return n;
+  // The list map[key], to iterate (yaml-cpp iterates a map as pairs whose nodes are
+  // unusable). An empty value has no place of its own: the error names its key's.
+  YAML::Node list(const YAML::Node& map, const char* key, const std::string& what) const {
+    const YAML::Node n = map[key];
+    if (n.IsSequence()) return n;
+    for (const auto& kv : map)
+      if (n.IsNull() && kv.first.IsScalar() && kv.first.Scalar() == key) fail(kv.first, what + ": expected a list");
+    fail(n, what + ": expected a list");
   }
   void keys(const YAML::Node& n, const std::string& what, std::initializer_list<const char*> allowed) const {
     if (!n.IsMap()) fail(n, what + ": expected a map");
@@ -140,7 +144,10 @@ struct Reader {
   std::string path(const YAML::Node& n, const std::string& what) const {
     const std::string p = text(n, what);
     const fs::path full = fs::path(p).is_absolute() ? fs::path(p) : fs::path(dir) / p;
-    if (!fs::exists(full)) fail(n, what + ": file '" + full.string() + "' does not exist");
+    std::error_code ec;  // the throwing fs::exists escaped on a name too long for the system
+    const bool exists = fs::exists(full, ec);
+    if (ec) fail(n, what + ": cannot use the file '" + full.string() + "': " + ec.message());
+    if (!exists) fail(n, what + ": file '" + full.string() + "' does not exist");
     return full.lexically_normal().string();
   }
 
@@ -230,7 +237,7 @@ struct Reader {
     if (n["lock"]) r.lock = angles(n["lock"], "robot.lock", &r.where, "lock");
     if (n["payloads"]) {
       r.payloads.clear();
-      for (const auto& e : list(n["payloads"], "robot.payloads")) {
+      for (const auto& e : list(n, "payloads", "robot.payloads")) {
         keys(e, "robot.payloads", {"link", "mass_kg", "com", "inertia_kgm2"});
         Payload p;
         p.link = text(required(e, "link", "robot.payloads"), "payload.link");
@@ -243,7 +250,7 @@ struct Reader {
     }
     if (n["loads"]) {
       r.loads.clear();
-      for (const auto& e : list(n["loads"], "robot.loads")) {
+      for (const auto& e : list(n, "loads", "robot.loads")) {
         keys(e, "robot.loads", {"joint", "reflected_mass_kg"});
         r.loads.push_back({text(required(e, "joint", "robot.loads"), "load.joint"),
                            positive(required(e, "reflected_mass_kg", "robot.loads"), "load.reflected_mass_kg")});
@@ -319,7 +326,7 @@ struct Reader {
     }
     if (n["forces"]) {
       v.forces.clear();
-      for (const auto& e : list(n["forces"], "forces")) {
+      for (const auto& e : list(n, "forces", "forces")) {
         keys(e, "force", {"link", "point", "direction", "source"});
         ForceSpec f;
         f.link = text(required(e, "link", "force"), "force.link");
@@ -360,7 +367,10 @@ const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "contr
 }  // namespace
 
 Scenario load_scenario(const std::string& path) {
-  if (!fs::exists(path)) throw InputError(path + ": the scenario file does not exist");
+  std::error_code ec;
+  const bool exists = fs::exists(path, ec);
+  if (ec) throw InputError(path + ": cannot read the scenario file: " + ec.message());
+  if (!exists) throw InputError(path + ": the scenario file does not exist");
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -446,8 +456,7 @@ Scenario load_scenario(const std::string& path) {
     }
   }
   if (root["plots"]) {
-    if (!root["plots"].IsSequence()) rd.fail(root["plots"], "plots: expected a list");
-    for (const auto& p : rd.list(root["plots"], "plots")) {
+    for (const auto& p : rd.list(root, "plots", "plots")) {
       rd.keys(p, "plot", {"title", "y_label", "file", "signals"});
       PlotSetup ps;
       if (p["title"]) ps.title = rd.text(p["title"], "plot.title");

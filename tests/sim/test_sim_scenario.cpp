@@ -359,6 +359,24 @@ TEST(SimScenarioLoad, WholeNumbersAreCheckedBeforeTheyAreConverted) {
   EXPECT_EQ(s.frames.width_px, 640);
 }
 
+// Found by fuzzing: a file name longer than the system allows made fs::exists throw
+// std::filesystem::filesystem_error (exit 1, "internal error").
+TEST(SimScenarioLoad, FileNamesTooLongForTheSystemAreLocatedErrors) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml");
+  const std::string long_name = std::string(300, 'a') + ".yaml";
+  check_load_error(path, {"urdf", replace_line(base_scenario(), "  base: fixed", "  base: fixed\n  urdf: " + long_name), "urdf:",
+                          "robot.urdf: cannot use the file"});
+  check_load_error(path, {"diagram", replace_line(base_scenario(), "    diagram: " + kEncoderController, "    diagram: " + long_name),
+                          "diagram: aaa", "cannot use the file"});
+  try {
+    (void)load_scenario(dir.file(long_name));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot read the scenario file"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SimScenarioLoad, AMatrixOfMoreThanAThousandVariantsIsALocatedError) {
   TempDir dir;
   // Ten axes of two values: 1024 variants (each a copy of the whole setup); an alias
