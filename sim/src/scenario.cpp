@@ -29,6 +29,12 @@ namespace {
 namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------- YAML reading
+// Limits of what a scenario may ask for (each checked at its line).
+constexpr std::size_t kMaxVariants = 1000;
+constexpr long long kMaxFramePixels = 16384;
+constexpr long long kMaxFrames = 1000000;
+constexpr long long kMaxExactInteger = 1LL << 53;  // doubles hold every integer up to here
+
 struct Reader {
   std::string file;
   std::string dir;
@@ -46,10 +52,24 @@ struct Reader {
   }
   [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const { throw InputError(at(n) + ": " + what); }
 
+  // A map key: a plain name (yaml-cpp would throw on a list, a map or a null as key).
+  std::string key(const YAML::Node& k, const std::string& what) const {
+    if (!k.IsScalar()) fail(k, what + ": a key must be a name, not a list, a map or empty");
+    return k.Scalar();
+  }
+  // The list map[key], to iterate (yaml-cpp iterates a map as pairs whose nodes are
+  // unusable). An empty value has no place of its own: the error names its key's.
+  YAML::Node list(const YAML::Node& map, const char* key, const std::string& what) const {
+    const YAML::Node n = map[key];
+    if (n.IsSequence()) return n;
+    for (const auto& kv : map)
+      if (n.IsNull() && kv.first.IsScalar() && kv.first.Scalar() == key) fail(kv.first, what + ": expected a list");
+    fail(n, what + ": expected a list");
+  }
   void keys(const YAML::Node& n, const std::string& what, std::initializer_list<const char*> allowed) const {
     if (!n.IsMap()) fail(n, what + ": expected a map");
     for (const auto& kv : n) {
-      const std::string k = kv.first.as<std::string>();
+      const std::string k = key(kv.first, what);
       bool ok = false;
       std::string list;
       for (const char* a : allowed) {
@@ -68,6 +88,13 @@ struct Reader {
     } catch (const YAML::Exception&) {
       fail(n, what + ": expected a number, got '" + n.Scalar() + "'");
     }
+  }
+  // A whole number in [lo, hi] (checked before it is converted).
+  long long integer(const YAML::Node& n, const std::string& what, long long lo, long long hi) const {
+    const double v = number(n, what);
+    if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
+      fail(n, fmt::format("{}: expected a whole number from {} to {}", what, lo, hi));
+    return static_cast<long long>(v);
   }
   double positive(const YAML::Node& n, const std::string& what) const {
     const double v = number(n, what);
@@ -110,7 +137,8 @@ struct Reader {
     if (!n.IsMap()) fail(n, what + ": expected a map of joint: value");
     std::vector<std::pair<std::string, double>> r;
     for (const auto& kv : n) {
-      r.emplace_back(kv.first.as<std::string>(), number(kv.second, what + "." + kv.first.as<std::string>()));
+      const std::string k = key(kv.first, what);
+      r.emplace_back(k, number(kv.second, what + "." + k));
       if (where) (*where)[prefix + ":" + r.back().first] = at(kv.first);
     }
     return r;
@@ -118,7 +146,10 @@ struct Reader {
   std::string path(const YAML::Node& n, const std::string& what) const {
     const std::string p = text(n, what);
     const fs::path full = fs::path(p).is_absolute() ? fs::path(p) : fs::path(dir) / p;
-    if (!fs::exists(full)) fail(n, what + ": file '" + full.string() + "' does not exist");
+    std::error_code ec;  // the throwing fs::exists escaped on a name too long for the system
+    const bool exists = fs::exists(full, ec);
+    if (ec) fail(n, what + ": cannot use the file '" + full.string() + "': " + ec.message());
+    if (!exists) fail(n, what + ": file '" + full.string() + "' does not exist");
     return full.lexically_normal().string();
   }
 
@@ -208,7 +239,7 @@ struct Reader {
     if (n["lock"]) r.lock = angles(n["lock"], "robot.lock", &r.where, "lock");
     if (n["payloads"]) {
       r.payloads.clear();
-      for (const auto& e : n["payloads"]) {
+      for (const auto& e : list(n, "payloads", "robot.payloads")) {
         keys(e, "robot.payloads", {"link", "mass_kg", "com", "inertia_kgm2"});
         Payload p;
         p.link = text(required(e, "link", "robot.payloads"), "payload.link");
@@ -221,7 +252,7 @@ struct Reader {
     }
     if (n["loads"]) {
       r.loads.clear();
-      for (const auto& e : n["loads"]) {
+      for (const auto& e : list(n, "loads", "robot.loads")) {
         keys(e, "robot.loads", {"joint", "reflected_mass_kg"});
         r.loads.push_back({text(required(e, "joint", "robot.loads"), "load.joint"),
                            positive(required(e, "reflected_mass_kg", "robot.loads"), "load.reflected_mass_kg")});
@@ -249,13 +280,16 @@ struct Reader {
       else if (s == "fixed") c.scalar = Scalar::Fixed;
       else fail(n["scalar"], "controller.scalar: expected double, float or fixed, got '" + s + "'");
     }
-    if (n["word_bits"]) c.word_bits = static_cast<int>(number(n["word_bits"], "controller.word_bits"));
+    if (n["word_bits"]) {
+      c.word_bits = static_cast<int>(integer(n["word_bits"], "controller.word_bits", 16, 32));
+      if (c.word_bits != 16 && c.word_bits != 32) fail(n["word_bits"], "controller.word_bits: expected 16 or 32");
+    }
     for (const char* side : {"inputs", "outputs"}) {
       if (!n[side]) fail(n, "controller '" + c.name + "': expected '" + side + "' (program port: bus signal)");
       if (!n[side].IsMap()) fail(n[side], "controller '" + c.name + "'." + side + ": expected a map of port: signal");
       const bool inputs = std::string(side) == "inputs";
       for (const auto& kv : n[side]) {
-        (inputs ? c.inputs : c.outputs).emplace_back(kv.first.as<std::string>(), text(kv.second, side));
+        (inputs ? c.inputs : c.outputs).emplace_back(key(kv.first, "controller '" + c.name + "'." + side), text(kv.second, side));
         (inputs ? c.input_where : c.output_where).push_back(at(kv.second));
       }
     }
@@ -287,12 +321,14 @@ struct Reader {
     if (n["references"]) {
       v.references.clear();
       if (!n["references"].IsMap()) fail(n["references"], "references: expected a map of name: source");
-      for (const auto& kv : n["references"])
-        v.references.push_back({kv.first.as<std::string>(), source(kv.second, "reference '" + kv.first.as<std::string>() + "'"), at(kv.first)});
+      for (const auto& kv : n["references"]) {
+        const std::string name = key(kv.first, "references");
+        v.references.push_back({name, source(kv.second, "reference '" + name + "'"), at(kv.first)});
+      }
     }
     if (n["forces"]) {
       v.forces.clear();
-      for (const auto& e : n["forces"]) {
+      for (const auto& e : list(n, "forces", "forces")) {
         keys(e, "force", {"link", "point", "direction", "source"});
         ForceSpec f;
         f.link = text(required(e, "link", "force"), "force.link");
@@ -310,7 +346,7 @@ struct Reader {
       const YAML::Node s = n["sensors"];
       keys(s, "sensors", {"noise", "seed", "force_noise_N"});
       if (s["noise"]) v.sensor_noise = boolean(s["noise"], "sensors.noise");
-      if (s["seed"]) v.seed = static_cast<uint64_t>(number(s["seed"], "sensors.seed"));
+      if (s["seed"]) v.seed = static_cast<uint64_t>(integer(s["seed"], "sensors.seed", 0, kMaxExactInteger));
       if (s["force_noise_N"]) v.force_noise_N = number(s["force_noise_N"], "sensors.force_noise_N");
     }
     if (n["integration"]) integration(n["integration"], v.integration);
@@ -333,7 +369,10 @@ const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "contr
 }  // namespace
 
 Scenario load_scenario(const std::string& path) {
-  if (!fs::exists(path)) throw InputError(path + ": the scenario file does not exist");
+  std::error_code ec;
+  const bool exists = fs::exists(path, ec);
+  if (ec) throw InputError(path + ": cannot read the scenario file: " + ec.message());
+  if (!exists) throw InputError(path + ": the scenario file does not exist");
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -370,8 +409,11 @@ Scenario load_scenario(const std::string& path) {
     s.variants.push_back(base);
     s.variants.back().name.clear();
     for (const auto& axis : root["matrix"]) {
-      const std::string an = axis.first.as<std::string>();
+      const std::string an = rd.key(axis.first, "matrix");
       if (!axis.second.IsSequence() || axis.second.size() == 0) rd.fail(axis.second, "matrix." + an + ": expected a list of values");
+      if (s.variants.size() * axis.second.size() > kMaxVariants)
+        rd.fail(axis.first, fmt::format("matrix.{}: {} variants (more than {}): split the scenario", an,
+                                         s.variants.size() * axis.second.size(), kMaxVariants));
       std::vector<VariantSetup> next;
       for (const VariantSetup& prev : s.variants)
         for (const auto& n : axis.second) {
@@ -401,9 +443,9 @@ Scenario load_scenario(const std::string& path) {
       rd.keys(f, "frames", {"enabled", "fps", "width", "height", "max_frames", "camera", "variant"});
       if (f["enabled"]) s.frames.enabled = rd.boolean(f["enabled"], "frames.enabled");
       if (f["fps"]) s.frames.fps = rd.positive(f["fps"], "frames.fps");
-      if (f["width"]) s.frames.width_px = static_cast<int>(rd.positive(f["width"], "frames.width"));
-      if (f["height"]) s.frames.height_px = static_cast<int>(rd.positive(f["height"], "frames.height"));
-      if (f["max_frames"]) s.frames.max_frames = static_cast<int>(rd.positive(f["max_frames"], "frames.max_frames"));
+      if (f["width"]) s.frames.width_px = static_cast<int>(rd.integer(f["width"], "frames.width", 1, kMaxFramePixels));
+      if (f["height"]) s.frames.height_px = static_cast<int>(rd.integer(f["height"], "frames.height", 1, kMaxFramePixels));
+      if (f["max_frames"]) s.frames.max_frames = static_cast<int>(rd.integer(f["max_frames"], "frames.max_frames", 1, kMaxFrames));
       if (f["camera"]) {
         rd.keys(f["camera"], "frames.camera", {"position", "look_at"});
         if (f["camera"]["position"]) s.frames.camera_position = rd.vec3(f["camera"]["position"], "frames.camera.position");
@@ -416,8 +458,7 @@ Scenario load_scenario(const std::string& path) {
     }
   }
   if (root["plots"]) {
-    if (!root["plots"].IsSequence()) rd.fail(root["plots"], "plots: expected a list");
-    for (const auto& p : root["plots"]) {
+    for (const auto& p : rd.list(root, "plots", "plots")) {
       rd.keys(p, "plot", {"title", "y_label", "file", "signals"});
       PlotSetup ps;
       if (p["title"]) ps.title = rd.text(p["title"], "plot.title");
@@ -448,7 +489,7 @@ Scenario load_scenario(const std::string& path) {
     };
     const auto& allowed = kKeys.at(s.experiment.type);
     for (const auto& kv : e) {
-      const std::string k = kv.first.as<std::string>();
+      const std::string k = rd.key(kv.first, "experiment");
       if (k == "type") continue;
       if (k == "joint") {
         s.experiment.joint = rd.text(kv.second, "experiment.joint");

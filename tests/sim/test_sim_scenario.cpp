@@ -281,6 +281,110 @@ TEST(SimScenarioLoad, ExperimentKeysAreChecked) {
     EXPECT_NO_THROW(load_scenario(kSourceDir + "/examples/scenarios/" + f + ".yaml")) << f;
 }
 
+// Issue 13 item 9: shapes that yaml-cpp used to throw on (exit 1, "internal error").
+// Each is now an InputError naming file:line:col, found by load_scenario alone.
+void check_load_error(const std::string& path, const ErrorCase& c) {
+  SCOPED_TRACE(c.what);
+  write_text(path, c.yaml);
+  std::string msg;
+  try {
+    (void)load_scenario(path);
+  } catch (const InputError& e) {
+    msg = e.what();
+  }  // any other exception fails the test
+  ASSERT_FALSE(msg.empty()) << "no error";
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << "not one line: " << msg;
+  const std::string where = path + ":" + std::to_string(line_of(c.yaml, c.marker)) + ":";
+  EXPECT_EQ(msg.rfind(where, 0), 0u) << "expected the message to start with '" << where << "': " << msg;
+  EXPECT_NE(msg.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in: " << msg;
+}
+
+TEST(SimScenarioLoad, ListsGivenAsAMapOrEmptyAreLocatedErrors) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml");
+  const std::string robot = "  initial: {l_knee: 1.0}";
+  for (const std::string value : {"{link: l_foot}", "", "{}", "''"}) {
+    check_load_error(path, {"forces", base_scenario() + "forces: " + value + "\n", "forces:", "forces: expected a list"});
+    check_load_error(path, {"payloads", replace_line(base_scenario(), robot, robot + "\n  payloads: " + value), "payloads:",
+                            "robot.payloads: expected a list"});
+    check_load_error(path, {"loads", replace_line(base_scenario(), robot, robot + "\n  loads: " + value), "loads:",
+                            "robot.loads: expected a list"});
+  }
+  check_load_error(path, {"plots", base_scenario() + "plots: {file: a.png}\n", "plots:", "plots: expected a list"});
+  // An empty list is still no forces.
+  write_text(path, base_scenario() + "forces: []\n");
+  EXPECT_TRUE(load_scenario(path).variants[0].forces.empty());
+}
+
+TEST(SimScenarioLoad, KeysThatAreNotNamesAreLocatedErrors) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml");
+  const std::string b = base_scenario();
+  check_load_error(path, {"top level {}", b + "{}: 1\n", "{}: 1", "scenario: a key must be a name"});
+  check_load_error(path, {"top level ~", b + "~: 1\n", "~: 1", "scenario: a key must be a name"});
+  check_load_error(path, {"whole file", "{[1]: 2}\n", "{[1]: 2}", "scenario: a key must be a name"});
+  check_load_error(path, {"references", replace_line(b, "  q_d: {type: steps, offset: 1.0, steps: [[0.01, 0.05]]}", "  [q_d]: 1.0"),
+                          "[q_d]: 1.0", "references: a key must be a name"});
+  check_load_error(path, {"matrix", b + "matrix:\n  {[1]: 2}: [{name: a}]\n", "{[1]: 2}", "matrix: a key must be a name"});
+  check_load_error(path, {"controller inputs", replace_line(b, "    inputs: {q_d: q_d, q_m: l_knee.q_enc}", "    inputs: {[q_d]: q_d}"),
+                          "inputs: {[q_d]", "controller 'position'.inputs: a key must be a name"});
+  check_load_error(path, {"controller outputs", replace_line(b, "    outputs: {i: l_knee.current}", "    outputs: {{}: l_knee.current}"),
+                          "outputs: {{}", "controller 'position'.outputs: a key must be a name"});
+  check_load_error(path, {"controller parameters", replace_line(b, "    rate_hz: 1000", "    rate_hz: 1000\n    parameters: {[Kp]: 1}"),
+                          "parameters:", "parameters: a key must be a name"});
+  check_load_error(path, {"controller map", replace_line(b, "    rate_hz: 1000", "    {}: 1000"), "    {}: 1000",
+                          "controller: a key must be a name"});
+  check_load_error(path, {"robot.initial", replace_line(b, "  initial: {l_knee: 1.0}", "  initial: {[l_knee]: 1.0}"), "initial:",
+                          "robot.initial: a key must be a name"});
+  check_load_error(path, {"experiment", b + "experiment:\n  type: thermal\n  [k]: 1\n", "[k]: 1", "experiment: a key must be a name"});
+}
+
+TEST(SimScenarioLoad, WholeNumbersAreCheckedBeforeTheyAreConverted) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml");
+  const std::string b = base_scenario();
+  // Converting 1e300 or -1 to an integer was undefined behaviour (UBSan in the fuzzer).
+  check_load_error(path, {"frames.width", b + "frames: {width: 1e300}\n", "width: 1e300", "frames.width: expected a whole number from 1 to 16384"});
+  check_load_error(path, {"frames.height", b + "frames: {height: 2.5}\n", "height: 2.5", "expected a whole number"});
+  check_load_error(path, {"frames.max_frames", b + "frames: {max_frames: 1e12}\n", "max_frames: 1e12", "frames.max_frames: expected a whole number"});
+  check_load_error(path, {"seed", b + "sensors: {seed: -1}\n", "seed: -1", "sensors.seed: expected a whole number from 0 to"});
+  check_load_error(path, {"word_bits range", replace_line(b, "    rate_hz: 1000", "    rate_hz: 1000\n    word_bits: 1e300"), "word_bits:",
+                          "controller.word_bits: expected a whole number from 16 to 32"});
+  check_load_error(path, {"word_bits 17", replace_line(b, "    rate_hz: 1000", "    rate_hz: 1000\n    word_bits: 17"), "word_bits:",
+                          "controller.word_bits: expected 16 or 32"});
+  write_text(path, replace_line(b, "    rate_hz: 1000", "    rate_hz: 1000\n    word_bits: 16") + "frames: {width: 640, height: 480}\n");
+  const Scenario s = load_scenario(path);
+  EXPECT_EQ(s.variants[0].controllers[0].word_bits, 16);
+  EXPECT_EQ(s.frames.width_px, 640);
+}
+
+// Found by fuzzing: a file name longer than the system allows made fs::exists throw
+// std::filesystem::filesystem_error (exit 1, "internal error").
+TEST(SimScenarioLoad, FileNamesTooLongForTheSystemAreLocatedErrors) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml");
+  const std::string long_name = std::string(300, 'a') + ".yaml";
+  check_load_error(path, {"urdf", replace_line(base_scenario(), "  base: fixed", "  base: fixed\n  urdf: " + long_name), "urdf:",
+                          "robot.urdf: cannot use the file"});
+  check_load_error(path, {"diagram", replace_line(base_scenario(), "    diagram: " + kEncoderController, "    diagram: " + long_name),
+                          "diagram: aaa", "cannot use the file"});
+  try {
+    (void)load_scenario(dir.file(long_name));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot read the scenario file"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SimScenarioLoad, AMatrixOfMoreThanAThousandVariantsIsALocatedError) {
+  TempDir dir;
+  // Ten axes of two values: 1024 variants (each a copy of the whole setup); an alias
+  // makes such a file short, so the count is checked before the variants are built.
+  std::string yaml = base_scenario() + "matrix:\n  a0: &two [{name: x}, {name: y}]\n";
+  for (int k = 1; k < 10; ++k) yaml += "  a" + std::to_string(k) + ": *two\n";
+  check_load_error(dir.file("s.yaml"), {"1024 variants", yaml, "a9: *two", "matrix.a9: 1024 variants (more than 1000)"});
+}
+
 // ------------------------------------------------------------------------- variants and matrix
 
 TEST(SimScenarioVariants, MatrixNamesOverridesAndCombinedCsv) {
