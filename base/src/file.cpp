@@ -4,8 +4,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "dmbd/base/error.hpp"
 
@@ -44,14 +42,25 @@ void write_file_atomic(const std::string& path, const std::string& text) {
   write_file_atomic(path, std::vector<unsigned char>(text.begin(), text.end()));
 }
 
-std::string read_file(const std::string& path) {
+std::optional<std::string> try_read_file(const std::string& path, std::string& bytes) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path + ": cannot read: it is a directory");
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path + ": cannot read: " + std::strerror(errno));
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  if (std::filesystem::is_directory(path, ec)) return std::string("it is a directory");
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) return std::string(std::strerror(errno));
+  bytes.clear();
+  char buffer[65536];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) bytes.append(buffer, n);
+  const int err = std::ferror(file) ? errno : 0;
+  std::fclose(file);
+  if (err != 0) return std::string(std::strerror(err));
+  return std::nullopt;
+}
+
+std::string read_file(const std::string& path) {
+  std::string bytes;
+  if (const auto reason = try_read_file(path, bytes)) throw InputError(path + ": cannot read: " + *reason);
+  return bytes;
 }
 
 }  // namespace dmbd

@@ -4,28 +4,21 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <set>
-#include <sstream>
 
+#include "dmbd/base/yaml_reader.hpp"
 #include "dmbd/blocks/delay.hpp"
 #include "dmbd/blocks/discretize.hpp"
 #include "dmbd/blocks/elements.hpp"
+#include "dmbd/blocks/expression_numbers.hpp"
 #include "dmbd/diagrams/diagram.hpp"
+#include "parsed_diagram.hpp"
 
 namespace dmbd::diagrams {
 
 namespace b = dmbd::blocks;
 namespace fs = std::filesystem;
-
-std::string Location::str() const {
-  std::string s = file.empty() ? std::string("<diagram>") : file;
-  if (line > 0) s += ":" + std::to_string(line) + ":" + std::to_string(column);
-  return s;
-}
-
-std::string Diagnostic::str() const { return where.str() + ": error: " + message; }
 
 namespace {
 std::string join(const std::vector<Diagnostic>& d) {
@@ -76,26 +69,21 @@ int Diagram::find_output(const std::string& n) const {
 constexpr int kMaxDelaySamples = 1000;
 constexpr int kMaxSumEntries = 10000000;
 
-// Builds one Diagram, collecting every problem before throwing.
+// Builds one Diagram from a parsed file, collecting every problem before throwing.
 class Loader {
  public:
-  Loader(std::string path, std::vector<std::string> chain) : path_(std::move(path)), chain_(std::move(chain)) {}
+  Loader(const ParsedDiagram& parsed, std::vector<std::string> chain)
+      : parsed_(parsed), path_(parsed.path), chain_(std::move(chain)),
+        rd_(parsed.path, [this](const std::string& text) { return evaluate_number(text); }) {}
 
-  std::shared_ptr<const Diagram> run(const std::string& text, const b::ParameterMap& overrides,
-                                     const std::map<std::string, Location>& override_where) {
+  std::shared_ptr<const Diagram> run(const b::ParameterMap& overrides, const std::map<std::string, Location>& override_where) {
     auto d = std::make_shared<Diagram>();
     d_ = d.get();
     d_->file_ = path_;
-    YAML::Node root;
-    try {
-      root = YAML::Load(text);
-    } catch (const YAML::Exception& e) {
-      error(Location{path_, e.mark.line + 1, e.mark.column + 1}, "malformed YAML: " + e.msg);
-      throw DiagramError(diags_);
-    }
+    const YAML::Node& root = parsed_.root;
     if (!root.IsMap()) {
       error(Location{path_, 1, 1}, "expected a map with the keys name, parameters, inputs, outputs, blocks, connections");
-      throw DiagramError(diags_);
+      throw DiagramError(rd_.diagnostics());
     }
     check_keys(root, {"name", "description", "sample_time", "discretization", "parameters", "analysis", "inputs",
                       "outputs", "blocks", "connections"},
@@ -135,22 +123,15 @@ class Loader {
     signals(root["outputs"], "outputs", d_->outputs_);
     blocks(root["blocks"]);
     connections(root["connections"]);
-    if (diags_.empty()) algebraic_loops();
-    if (!diags_.empty()) throw DiagramError(diags_);
+    if (!rd_.failed()) algebraic_loops();
+    if (rd_.failed()) throw DiagramError(rd_.diagnostics());
     return d;
   }
 
-  const std::vector<Diagnostic>& diagnostics() const { return diags_; }
-
  private:
   // ---- diagnostics -------------------------------------------------------------
-  Location where(const YAML::Node& n, int offset = 0) const {
-    const YAML::Mark m = n.Mark();
-    if (m.is_null()) return Location{path_, 0, 0};
-    const int quote = (n.IsScalar() && n.Tag() == "!") ? 1 : 0;
-    return Location{path_, m.line + 1, m.column + 1 + quote + offset};
-  }
-  void error(const Location& at, const std::string& msg) { diags_.push_back({at, msg}); }
+  Location where(const YAML::Node& n, int offset = 0) const { return rd_.at(n, offset); }
+  void error(const Location& at, const std::string& msg) { rd_.error(at, msg); }
   void error(const YAML::Node& n, const std::string& msg) { error(where(n), msg); }
 
   static bool is_identifier(const std::string& s) {
@@ -160,34 +141,37 @@ class Loader {
 
   // Keys of a map must be among `allowed`; reports the others at their own location.
   void check_keys(const YAML::Node& map, const std::vector<std::string>& allowed, const std::string& what) {
-    for (const auto& kv : map) {
-      const std::string k = kv.first.Scalar();
-      if (std::find(allowed.begin(), allowed.end(), k) == allowed.end()) {
-        std::string list;
-        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        error(kv.first, "unknown " + what + " '" + k + "' (expected one of: " + list + ")");
-      }
-    }
+    rd_.guard([&] { rd_.keys(map, allowed, "", what); });
   }
 
   // ---- values ---------------------------------------------------------------------
+  // The reader's numbers: constant expressions of the parameters. One that uses a
+  // parameter whose own definition is wrong is not reported again (Skip).
+  double evaluate_number(const std::string& text) {
+    try {
+      const b::Expression e = parsed_.expression(text);
+      for (const std::string& p : e.parameters())
+        if (broken_parameters_.count(p)) throw yaml::Skip{};
+      return e.evaluate(d_->parameters_);
+    } catch (const b::ExpressionError& e) {
+      throw NumberError(e.column(), b::without_column(e.what()));
+    }
+  }
+
   // A number or a constant expression of the parameters; NaN (and a diagnostic) if not.
   double number(const YAML::Node& n, const std::string& what) {
-    if (!n || !n.IsScalar()) {
-      error(n ? where(n) : Location{path_, 0, 0}, "'" + what + "' must be a number or an expression");
-      return NAN;
-    }
-    try {
-      const double v = b::Expression::parse(n.Scalar()).evaluate(d_->parameters_);
-      if (!std::isfinite(v)) {
-        error(n, "'" + what + "' is not a finite number");
-        return NAN;
-      }
-      return v;
-    } catch (const b::ExpressionError& e) {
-      error(where(n, e.column() - 1), "'" + what + "': " + strip_column(e.what()));
-      return NAN;
-    }
+    double v = NAN;
+    const std::size_t before = rd_.diagnostics().size();
+    if (!rd_.guard([&] { v = rd_.number(n, "'" + what + "'"); }) && rd_.diagnostics().size() == before)
+      quiet_failure_ = true;
+    return v;
+  }
+
+  // True (and quiet_failure_ set) when the expression uses a wrong parameter.
+  bool uses_broken_parameter(const b::Expression& e) {
+    for (const std::string& p : e.parameters())
+      if (broken_parameters_.count(p)) quiet_failure_ = true;
+    return quiet_failure_;
   }
 
   int integer(const YAML::Node& n, const std::string& what, int lo, int hi, int fallback) {
@@ -198,12 +182,6 @@ class Loader {
       return fallback;
     }
     return static_cast<int>(v);
-  }
-
-  static std::string strip_column(const std::string& m) {
-    // ExpressionError messages start with "column N: "; the location carries it.
-    const auto p = m.find(": ");
-    return (m.rfind("column ", 0) == 0 && p != std::string::npos) ? m.substr(p + 2) : m;
   }
 
   b::Matrix matrix(const YAML::Node& n, const std::string& what) {
@@ -246,42 +224,57 @@ class Loader {
   }
 
   // ---- parameters -------------------------------------------------------------------
-  void parameters(const YAML::Node& n, const b::ParameterMap& overrides,
-                  const std::map<std::string, Location>& override_where) {
-    std::map<std::string, std::pair<b::Expression, YAML::Node>> defs;
-    if (n) {
-      if (!n.IsMap()) {
-        error(n, "'parameters' must be a map of name: value");
-      } else {
-        for (const auto& kv : n) {
-          const std::string name = kv.first.Scalar();
-          if (!is_identifier(name) || name == "s" || name == "z" || name == "pi" || name == "e") {
-            error(kv.first, "'" + name + "' is not a usable parameter name");
-            continue;
-          }
-          if (!kv.second.IsScalar()) {
-            error(kv.second, "parameter '" + name + "' must be a number or an expression");
-            continue;
-          }
-          try {
-            defs.emplace(name, std::make_pair(b::Expression::parse(kv.second.Scalar()), kv.second));
-            d_->parameter_order_.push_back(name);
-          } catch (const b::ExpressionError& e) {
-            error(where(kv.second, e.column() - 1), "parameter '" + name + "': " + strip_column(e.what()));
-          }
-        }
+  using Definitions = std::map<std::string, std::pair<b::Expression, YAML::Node>>;
+
+  // The parameters as written, in d_->parameter_order_; a wrong one is reported and
+  // its name kept in broken_parameters_ (what uses it is not reported again).
+  Definitions parameter_definitions(const YAML::Node& n) {
+    Definitions defs;
+    if (!n) return defs;
+    if (!n.IsMap()) {
+      error(n, "'parameters' must be a map of name: value");
+      return defs;
+    }
+    for (const auto& kv : n) {
+      const std::string name = kv.first.Scalar();
+      if (!is_identifier(name) || name == "s" || name == "z" || name == "pi" || name == "e") {
+        error(kv.first, "'" + name + "' is not a usable parameter name");
+        continue;
+      }
+      if (!kv.second.IsScalar()) {
+        error(kv.second, "parameter '" + name + "' must be a number or an expression");
+        broken_parameters_.insert(name);
+        continue;
+      }
+      try {
+        defs.emplace(name, std::make_pair(parsed_.expression(kv.second.Scalar()), kv.second));
+        d_->parameter_order_.push_back(name);
+      } catch (const b::ExpressionError& e) {
+        error(where(kv.second, e.column() - 1), "parameter '" + name + "': " + b::without_column(e.what()));
+        broken_parameters_.insert(name);
       }
     }
+    return defs;
+  }
+
+  void parameters(const YAML::Node& n, const b::ParameterMap& overrides,
+                  const std::map<std::string, Location>& override_where) {
+    const Definitions defs = parameter_definitions(n);
     for (const auto& [name, value] : overrides) {
       if (!defs.count(name)) {
         auto it = override_where.find(name);
-        error(it != override_where.end() ? it->second : Location{path_, 0, 0},
-              "no parameter '" + name + "' to override in '" + path_ + "'");
+        if (!broken_parameters_.count(name))
+          error(it != override_where.end() ? it->second : Location{path_, 0, 0},
+                "no parameter '" + name + "' to override in '" + path_ + "'");
         continue;
       }
       d_->parameters_[name] = value;
     }
-    // Evaluate in dependency order; report unknown names and cycles.
+    evaluate_parameters(defs);
+  }
+
+  // Evaluates the definitions in dependency order; reports unknown names and cycles.
+  void evaluate_parameters(const Definitions& defs) {
     std::map<std::string, int> state;  // 0 new, 1 in progress, 2 done
     std::vector<std::string> stack;
     std::function<bool(const std::string&)> eval = [&](const std::string& name) -> bool {
@@ -302,26 +295,36 @@ class Loader {
       const auto& [expr, node] = defs.at(name);
       bool ok = true;
       for (const std::string& dep : expr.parameters()) {
-        if (!defs.count(dep)) continue;  // reported by evaluate() below with its column
+        if (!defs.count(dep)) {  // unknown: reported by evaluate() below with its column
+          if (broken_parameters_.count(dep)) ok = false;  // reported at its own definition
+          continue;
+        }
         if (!eval(dep)) ok = false;
       }
       stack.pop_back();
       state[name] = 2;
-      if (!ok) return false;
-      try {
-        const double v = expr.evaluate(d_->parameters_);
-        if (!std::isfinite(v)) {
-          error(node, "parameter '" + name + "' is not a finite number");
-          return false;
-        }
-        d_->parameters_[name] = v;
-        return true;
-      } catch (const b::ExpressionError& e) {
-        error(where(node, e.column() - 1), "parameter '" + name + "': " + strip_column(e.what()));
+      if (!ok || !evaluate_parameter(name, expr, node)) {
+        broken_parameters_.insert(name);
         return false;
       }
+      return true;
     };
     for (const std::string& name : d_->parameter_order_) eval(name);
+  }
+
+  bool evaluate_parameter(const std::string& name, const b::Expression& expr, const YAML::Node& node) {
+    try {
+      const double v = expr.evaluate(d_->parameters_);
+      if (!std::isfinite(v)) {
+        error(node, "parameter '" + name + "' is not a finite number");
+        return false;
+      }
+      d_->parameters_[name] = v;
+      return true;
+    } catch (const b::ExpressionError& e) {
+      error(where(node, e.column() - 1), "parameter '" + name + "': " + b::without_column(e.what()));
+      return false;
+    }
   }
 
   // ---- inputs / outputs -----------------------------------------------------------------
@@ -459,9 +462,10 @@ class Loader {
           error(m, e.what());
         }
       }
-      const size_t before = diags_.size();
+      const size_t before = rd_.diagnostics().size();
+      quiet_failure_ = false;
       build(bl, blk);
-      if (diags_.size() == before) d_->blocks_.push_back(std::move(bl));
+      if (rd_.diagnostics().size() == before && !quiet_failure_) d_->blocks_.push_back(std::move(bl));
       else d_->blocks_.push_back(std::move(bl)), broken_.insert(d_->blocks_.back().name);
     }
   }
@@ -517,11 +521,12 @@ class Loader {
         if (blk["expr"]) {
           const YAML::Node e = blk["expr"];
           try {
-            const b::Rational r =
-                b::Expression::parse(e.Scalar()).evaluate_rational(d_->parameters_, d_->is_discrete() ? 'z' : 's');
+            const b::Expression expr = parsed_.expression(e.Scalar());
+            if (uses_broken_parameter(expr)) return;
+            const b::Rational r = expr.evaluate_rational(d_->parameters_, d_->is_discrete() ? 'z' : 's');
             set_tf(bl, b::TransferFunction(r.num, r.den, ts), e);
           } catch (const b::ExpressionError& x) {
-            error(where(e, x.column() - 1), "block '" + bl.name + "': " + strip_column(x.what()));
+            error(where(e, x.column() - 1), "block '" + bl.name + "': " + b::without_column(x.what()));
           } catch (const InputError& x) {
             error(e, "block '" + bl.name + "': " + x.what());
           }
@@ -687,12 +692,13 @@ class Loader {
     }
   }
 
+  // The diagram a subsystem block names, evaluated at the block's parameter values
+  // (its source was read and parsed with this diagram's: ParsedDiagram::subsystems).
   void subsystem(Block& bl, const YAML::Node& blk) {
     require(blk, "file", bl);
     if (!blk["file"]) return;
     const YAML::Node f = blk["file"];
-    const fs::path base = fs::path(path_).parent_path();
-    const fs::path file = base / f.Scalar();
+    const fs::path file = fs::path(path_).parent_path() / f.Scalar();
     std::error_code ec;
     const fs::path canon = fs::weakly_canonical(file, ec);
     const std::string key = ec ? file.string() : canon.string();
@@ -702,33 +708,21 @@ class Loader {
       error(f, "subsystem '" + bl.name + "' includes itself: " + c + fs::path(key).filename().string());
       return;
     }
-    std::ifstream in(file);
-    if (!in) {
-      error(f, "subsystem '" + bl.name + "': cannot read diagram file '" + file.string() + "'");
+    const auto sub = parsed_.subsystems.find(bl.name);
+    if (sub == parsed_.subsystems.end() || !sub->second.source) {
+      if (sub != parsed_.subsystems.end())
+        for (const Diagnostic& d : sub->second.errors) error(d.where, d.message);
       return;
     }
-    std::stringstream text;
-    text << in.rdbuf();
     b::ParameterMap overrides;
     std::map<std::string, Location> override_where;
-    if (const YAML::Node p = blk["parameters"]) {
-      if (!p.IsMap()) {
-        error(p, "'parameters' of a subsystem must be a map name: value");
-      } else {
-        for (const auto& kv : p) {
-          const double v = number(kv.second, kv.first.Scalar());
-          if (std::isfinite(v)) overrides[kv.first.Scalar()] = v;
-          override_where[kv.first.Scalar()] = where(kv.first);
-        }
-      }
-    }
+    subsystem_parameters(blk["parameters"], overrides, override_where);
     std::vector<std::string> chain = chain_;
     chain.push_back(key);
-    Loader sub(file.string(), chain);
     try {
-      bl.subsystem = sub.run(text.str(), overrides, override_where);
+      bl.subsystem = evaluate_parsed(sub->second.source->parsed(), overrides, override_where, chain);
     } catch (const DiagramError& e) {
-      diags_.insert(diags_.end(), e.diagnostics().begin(), e.diagnostics().end());
+      for (const Diagnostic& d : e.diagnostics()) error(d.where, d.message);
       return;
     }
     if (bl.subsystem->ts() != d_->ts_) {
@@ -739,6 +733,19 @@ class Loader {
     for (const auto& s : bl.subsystem->inputs()) bl.inputs.push_back({s.name, s.size});
     for (const auto& s : bl.subsystem->outputs()) bl.outputs.push_back({s.name, s.size});
     bl.feedthrough = subsystem_feedthrough(*bl.subsystem);
+  }
+
+  void subsystem_parameters(const YAML::Node& p, b::ParameterMap& overrides, std::map<std::string, Location>& where_given) {
+    if (!p) return;
+    if (!p.IsMap()) {
+      error(p, "'parameters' of a subsystem must be a map name: value");
+      return;
+    }
+    for (const auto& kv : p) {
+      const double v = number(kv.second, kv.first.Scalar());
+      if (std::isfinite(v)) overrides[kv.first.Scalar()] = v;
+      where_given[kv.first.Scalar()] = where(kv.first);
+    }
   }
 
   // For each input of a diagram: does some output depend on it without a state in between?
@@ -1010,28 +1017,30 @@ class Loader {
           "filter or a state)");
   }
 
+  const ParsedDiagram& parsed_;
   std::string path_;
   std::vector<std::string> chain_;
+  yaml::Reader rd_;
+  std::set<std::string> broken_parameters_;  // wrong definitions: their uses are not reported again
+  bool quiet_failure_ = false;               // a value of the block being built used one
   Diagram* d_ = nullptr;
   b::C2dMethod method_ = b::C2dMethod::Tustin;
-  std::vector<Diagnostic> diags_;
   std::set<std::string> broken_;  // blocks with errors: their ports are not checked further
 };
 
+std::shared_ptr<const Diagram> evaluate_parsed(const ParsedDiagram& parsed, const b::ParameterMap& overrides,
+                                               const std::map<std::string, Location>& override_where,
+                                               const std::vector<std::string>& chain) {
+  return Loader(parsed, chain).run(overrides, override_where);
+}
+
 std::shared_ptr<const Diagram> Diagram::parse(const std::string& yaml, const std::string& path,
                                               const b::ParameterMap& overrides) {
-  std::error_code ec;
-  const fs::path canon = fs::weakly_canonical(path, ec);
-  Loader l(path, {ec ? path : canon.string()});
-  return l.run(yaml, overrides, {});
+  return DiagramSource::parse(yaml, path)->evaluate(overrides);
 }
 
 std::shared_ptr<const Diagram> Diagram::load(const std::string& path, const b::ParameterMap& overrides) {
-  std::ifstream in(path);
-  if (!in) throw DiagramError({Diagnostic{Location{path, 0, 0}, "cannot read diagram file '" + path + "'"}});
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path, overrides);
+  return DiagramSource::load(path)->evaluate(overrides);
 }
 
 }  // namespace dmbd::diagrams

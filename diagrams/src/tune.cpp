@@ -12,11 +12,9 @@ namespace dmbd::diagrams {
 
 namespace b = dmbd::blocks;
 
-ClosedLoopFigures closed_loop_figures(const std::string& diagram, const b::ParameterMap& params,
-                                      const std::string& from, const std::string& to) {
+ClosedLoopFigures closed_loop_figures(const Diagram& diagram, const std::string& from, const std::string& to) {
   ClosedLoopFigures f;
-  const auto d = Diagram::load(diagram, params);
-  const b::StateSpace ss = linearize(*d, from, to);
+  const b::StateSpace ss = linearize(diagram, from, to);
   f.stable = ss.is_stable();
   if (!f.stable) return f;
   const b::StateSpace m = ss.minimal(1e-10);
@@ -24,7 +22,7 @@ ClosedLoopFigures closed_loop_figures(const std::string& diagram, const b::Param
   const b::TransferFunction g = m.to_tf();
   std::vector<b::Complex> poles = g.poles();
   const std::vector<b::Complex> zeros = g.zeros();
-  auto to_s = [&](b::Complex p) { return d->is_discrete() ? std::log(p) / d->ts() : p; };
+  auto to_s = [&](b::Complex p) { return diagram.is_discrete() ? std::log(p) / diagram.ts() : p; };
   std::vector<double> mags;
   for (const b::Complex& p : poles) {
     bool cancelled = false;
@@ -48,10 +46,10 @@ ClosedLoopFigures closed_loop_figures(const std::string& diagram, const b::Param
 
 namespace {
 
-double start_value(const std::string& diagram, const b::ParameterMap& fixed, const std::string& name) {
-  const auto d = Diagram::load(diagram, fixed);
+double start_value(const DiagramSource& diagram, const b::ParameterMap& fixed, const std::string& name) {
+  const auto d = diagram.evaluate(fixed);
   const auto it = d->parameters().find(name);
-  if (it == d->parameters().end()) throw InputError("the diagram " + diagram + " has no parameter '" + name + "'");
+  if (it == d->parameters().end()) throw InputError("the diagram " + diagram.file() + " has no parameter '" + name + "'");
   return it->second > 0.0 ? it->second : 1.0;
 }
 
@@ -88,7 +86,7 @@ ClosedLoopFigures figures_at(const Spec& s, double p, double d, int& evaluations
   params[s.p_param] = p;
   params[s.d_param] = d;
   ++evaluations;
-  return closed_loop_figures(s.diagram, params, s.from, s.to);
+  return closed_loop_figures(*s.diagram->evaluate(params), s.from, s.to);
 }
 
 }  // namespace
@@ -102,7 +100,7 @@ PdTuningResult tune_pd(const PdTuning& s) {
     params[s.p_param] = 0.0;
     params[s.d_param] = d;
     ++r.evaluations;
-    const auto dg = Diagram::load(s.diagram, params);
+    const auto dg = s.diagram->evaluate(params);
     // With P = 0 a position loop keeps the plant's integrator at the origin: set that
     // root aside (|p| at rounding level against the largest pole) and judge the others.
     const auto poles = linearize(*dg, s.from, s.to).poles();
@@ -115,7 +113,7 @@ PdTuningResult tune_pd(const PdTuning& s) {
     }
     return true;
   };
-  const double d0 = start_value(s.diagram, s.fixed, s.d_param);
+  const double d0 = start_value(*s.diagram, s.fixed, s.d_param);
   const auto [dlo, dhi] = bracket(stable_d, d0, "stability limit of " + s.d_param);
   r.d_critical = bisect_log(stable_d, dlo, dhi, 1e-7);
   r.d = r.d_critical * std::pow(10.0, -s.gain_margin_db / 20.0);
@@ -124,7 +122,7 @@ PdTuningResult tune_pd(const PdTuning& s) {
     const ClosedLoopFigures f = figures(p, r.d);
     return f.stable && f.overshoot_pct <= s.max_overshoot_pct;
   };
-  const double p0 = start_value(s.diagram, s.fixed, s.p_param);
+  const double p0 = start_value(*s.diagram, s.fixed, s.p_param);
   const auto [plo, phi] = bracket(no_overshoot, p0, "overshoot bound with " + s.p_param);
   r.p = bisect_log(no_overshoot, plo, phi);
   r.figures = figures(r.p, r.d);
@@ -135,7 +133,7 @@ PdTuningResult tune_critical(const CriticalTuning& s) {
   PdTuningResult r;
   if (!(s.natural_frequency_rad_s > 0.0)) throw InputError("tune_critical needs a target natural frequency > 0");
   auto figures = [&](double p, double d) { return figures_at(s, p, d, r.evaluations); };
-  const double d0 = start_value(s.diagram, s.fixed, s.d_param);
+  const double d0 = start_value(*s.diagram, s.fixed, s.d_param);
   // For a given P: the smallest D (most lightly damped) that keeps the overshoot bound.
   auto critical_d = [&](double p) {
     auto damped = [&](double d) {
@@ -158,7 +156,7 @@ PdTuningResult tune_critical(const CriticalTuning& s) {
     const double d = critical_d(p);
     return figures(p, d).natural_frequency_rad_s < s.natural_frequency_rad_s;
   };
-  const double p0 = start_value(s.diagram, s.fixed, s.p_param);
+  const double p0 = start_value(*s.diagram, s.fixed, s.p_param);
   const auto [plo, phi] = bracket(too_slow, p0, "natural frequency target with " + s.p_param);
   r.p = bisect_log(too_slow, plo, phi, 1e-3);
   r.d = critical_d(r.p);

@@ -37,9 +37,9 @@ TEST(PaperDiagrams, AllClosedLoopsAreStable) {
 }
 
 TEST(PaperDiagrams, PositionControllersMeetTheIssuesFigures) {
-  const ClosedLoopFigures c1 = closed_loop_figures(kEnc, {}, "q_d", "q");
-  const ClosedLoopFigures c2 = closed_loop_figures(kPot, {}, "q_d", "q");
-  const ClosedLoopFigures c3 = closed_loop_figures(kEncF, {}, "q_d", "q");
+  const ClosedLoopFigures c1 = closed_loop_figures(*Diagram::load(kEnc), "q_d", "q");
+  const ClosedLoopFigures c2 = closed_loop_figures(*Diagram::load(kPot), "q_d", "q");
+  const ClosedLoopFigures c3 = closed_loop_figures(*Diagram::load(kEncF), "q_d", "q");
   ASSERT_TRUE(c1.stable && c2.stable && c3.stable);
   EXPECT_LE(c1.overshoot_pct, 2.0);
   EXPECT_LE(c2.overshoot_pct, 2.0);
@@ -61,7 +61,7 @@ TEST(PaperTuning, ProcedureReproducesTheShippedGainsOfControllers1And2) {
   };
   for (const Case& c : {Case{kEnc, 7114.90, 3557.45, 42512.69}, Case{kPot, 4542.85, 2271.426, 23221.94}}) {
     SCOPED_TRACE(c.file);
-    const PdTuningResult r = tune_pd({c.file, "q_d", "q", "P_q", "D_q", {}, kHalfDb, 0.1});
+    const PdTuningResult r = tune_pd({DiagramSource::load(c.file), "q_d", "q", "P_q", "D_q", {}, kHalfDb, 0.1});
     EXPECT_NEAR(r.d_critical, c.d_max, 1e-5 * c.d_max);
     EXPECT_NEAR(r.d, c.d, 1e-5 * c.d);
     EXPECT_NEAR(r.p, c.p, 1e-3 * c.p);
@@ -71,9 +71,9 @@ TEST(PaperTuning, ProcedureReproducesTheShippedGainsOfControllers1And2) {
 }
 
 TEST(PaperTuning, Controller3CriticallyDampedAtController1sFrequencyNeedsSmallerGains) {
-  const ClosedLoopFigures c1 = closed_loop_figures(kEnc, {}, "q_d", "q");
+  const ClosedLoopFigures c1 = closed_loop_figures(*Diagram::load(kEnc), "q_d", "q");
   const PdTuningResult r =
-      tune_critical({kEncF, "q_d", "q", "P_q", "D_q", {}, c1.natural_frequency_rad_s, 0.1});
+      tune_critical({DiagramSource::load(kEncF), "q_d", "q", "P_q", "D_q", {}, c1.natural_frequency_rad_s, 0.1});
   EXPECT_TRUE(r.figures.stable);
   EXPECT_LE(r.figures.overshoot_pct, 0.1 + 1e-9);
   // The P bisection stops at 1e-3 relative; the natural frequency follows within that.

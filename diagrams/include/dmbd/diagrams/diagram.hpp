@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "dmbd/base/location.hpp"
 #include "dmbd/blocks/discretize.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/expression.hpp"
@@ -14,18 +15,9 @@
 
 namespace dmbd::diagrams {
 
-// A place in a diagram file (1-based line and column; 0 when unknown).
-struct Location {
-  std::string file;
-  int line = 0, column = 0;
-  std::string str() const;  // "file:line:column"
-};
-
-struct Diagnostic {
-  Location where;
-  std::string message;
-  std::string str() const;  // "file:line:column: error: message"
-};
+// A place in a diagram file and a problem there (dmbd/base/location.hpp).
+using Location = dmbd::Location;
+using Diagnostic = dmbd::Diagnostic;
 
 // Every problem found while loading a diagram; what() is one line per problem.
 class DiagramError : public InputError {
@@ -92,7 +84,8 @@ class Diagram {
  public:
   // Load, evaluate and validate a diagram file. `overrides` replace parameter values
   // (every name must be a parameter of the diagram). Throws DiagramError listing every
-  // problem found.
+  // problem found. To evaluate one file at many parameter values, load a DiagramSource
+  // (diagram_source.hpp) once instead.
   static std::shared_ptr<const Diagram> load(const std::string& path, const blocks::ParameterMap& overrides = {});
   // The same from YAML text; `path` names it in messages and resolves subsystem files.
   static std::shared_ptr<const Diagram> parse(const std::string& yaml, const std::string& path,

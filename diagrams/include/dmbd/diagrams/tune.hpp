@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "dmbd/diagrams/diagram.hpp"
+#include "dmbd/diagrams/diagram_source.hpp"
 
 namespace dmbd::diagrams {
 
@@ -17,15 +17,16 @@ struct ClosedLoopFigures {
   double rise_time_s = 0.0;
 };
 
-// Figures of the closed loop from `from` to `to` of a diagram file at the given
-// parameter values. The natural frequency is the geometric mean of the magnitudes of
-// the two slowest poles, leaving out poles that a zero within 2 % cancels (for a
-// second-order loop it is w_n).
-ClosedLoopFigures closed_loop_figures(const std::string& diagram, const blocks::ParameterMap& params,
-                                      const std::string& from, const std::string& to);
+// Figures of the closed loop from `from` to `to` of an evaluated diagram. The natural
+// frequency is the geometric mean of the magnitudes of the two slowest poles, leaving
+// out poles that a zero within 2 % cancels (for a second-order loop it is w_n).
+ClosedLoopFigures closed_loop_figures(const Diagram& diagram, const std::string& from, const std::string& to);
 
+// The tunings evaluate their diagram's source at every gain they try: the file is read
+// and parsed once (DiagramSource::load).
 struct PdTuning {
-  std::string diagram, from, to;        // the closed loop (e.g. q_d -> q)
+  std::shared_ptr<const DiagramSource> diagram;
+  std::string from, to;                 // the closed loop (e.g. q_d -> q)
   std::string p_param, d_param;         // the PD gains (diagram parameters)
   blocks::ParameterMap fixed;           // other overrides
   double gain_margin_db = 6.0;          // D = D_critical * 10^(-gain_margin_db/20)
@@ -46,7 +47,8 @@ struct PdTuningResult {
 PdTuningResult tune_pd(const PdTuning& spec);
 
 struct CriticalTuning {
-  std::string diagram, from, to;
+  std::shared_ptr<const DiagramSource> diagram;
+  std::string from, to;
   std::string p_param, d_param;
   blocks::ParameterMap fixed;
   double natural_frequency_rad_s = 0.0;  // the target, e.g. controller 1's
