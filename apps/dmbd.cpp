@@ -22,6 +22,7 @@
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/diagrams/diagram.hpp"
+#include "dmbd/diagrams/diagram_source.hpp"
 #include "dmbd/codegen/emit.hpp"
 #include "dmbd/codegen/fixed.hpp"
 #include "dmbd/codegen/loop_program.hpp"
@@ -457,6 +458,7 @@ int run_analyze(const AnalyzeArgs& a) {
   }
   bool discrete = false;
   std::optional<b::TransferFunction> tf;
+  std::shared_ptr<const dmbd::diagrams::DiagramSource> source;  // parsed once: --sweep evaluates it again
   std::shared_ptr<const dmbd::diagrams::Diagram> diagram;
   bool internally_stable = true;
   int states = 0;
@@ -488,7 +490,8 @@ int run_analyze(const AnalyzeArgs& a) {
       throw InputError("a diagram needs --from SIGNAL and --to SIGNAL (or --loop-at SIGNAL)");
     if (!a.loop_at.empty() && (!a.from.empty() || !a.to.empty()))
       throw InputError("give either --loop-at or --from/--to");
-    diagram = dmbd::diagrams::Diagram::load(a.diagram, params);
+    source = dmbd::diagrams::DiagramSource::load(a.diagram);
+    diagram = source->evaluate(params);
     discrete = diagram->is_discrete();
     if (!a.ts.empty() && a.c2d.empty()) throw InputError("--ts is used with --c2d");
     const b::StateSpace ss = a.loop_at.empty() ? dmbd::diagrams::linearize(*diagram, a.from, a.to)
@@ -599,7 +602,7 @@ int run_analyze(const AnalyzeArgs& a) {
     for (double v : sweep_values) {
       b::ParameterMap p = params;
       p[sweep_name] = v;
-      const auto dv = dmbd::diagrams::Diagram::load(a.diagram, p);
+      const auto dv = source->evaluate(p);
       const b::StateSpace ss = a.loop_at.empty() ? dmbd::diagrams::linearize(*dv, a.from, a.to)
                                                  : dmbd::diagrams::loop_transfer(*dv, a.loop_at);
       const b::StateSpace mv = ss.minimal(1e-10);
@@ -789,11 +792,11 @@ int main(int argc, char** argv) {
       if (!tn.wn_hz.empty()) {
         const double f = parse_number(tn.wn_hz, "--natural-frequency-hz", params);
         if (!(f > 0.0)) throw InputError("--natural-frequency-hz must be > 0");
-        r = dmbd::diagrams::tune_critical({tn.diagram, tn.from, tn.to, tn.p, tn.d, params, 2 * M_PI * f, overshoot});
+        r = dmbd::diagrams::tune_critical({dmbd::diagrams::DiagramSource::load(tn.diagram), tn.from, tn.to, tn.p, tn.d, params, 2 * M_PI * f, overshoot});
       } else {
         const double gm = parse_number(tn.gm, "--gain-margin-db");
         if (!(gm >= 0.0)) throw InputError("--gain-margin-db must be >= 0");
-        r = dmbd::diagrams::tune_pd({tn.diagram, tn.from, tn.to, tn.p, tn.d, params, gm, overshoot});
+        r = dmbd::diagrams::tune_pd({dmbd::diagrams::DiagramSource::load(tn.diagram), tn.from, tn.to, tn.p, tn.d, params, gm, overshoot});
       }
       nlohmann::json j{{"diagram", tn.diagram},
                        {"p_param", tn.p},
@@ -838,9 +841,9 @@ int main(int argc, char** argv) {
     for (const auto& d : e.diagnostics()) std::cerr << d.str() << "\n";
     return 2;
   } catch (const InputError& e) {
-    std::string msg = e.what();
-    std::replace(msg.begin(), msg.end(), '\n', ' ');
-    std::cerr << "dmbd: error: " << msg << "\n";
+    // One line per problem (a scenario reports all of its problems, one a line).
+    std::istringstream lines(e.what());
+    for (std::string line; std::getline(lines, line);) std::cerr << "dmbd: error: " << line << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "dmbd: internal error: " << e.what() << "\n";

@@ -1,4 +1,4 @@
-// Fuzz target: the scenario loader (sim/src/scenario.cpp, load_scenario) on a temporary
+// Fuzz target: the scenario loader (sim/src/scenario_load.cpp, load_scenario) on a temporary
 // file. The file sits in <tmp>/scenarios/ beside <tmp>/diagrams -> examples/diagrams,
 // so the examples' relative paths (../diagrams/x.yaml) resolve as they do in the repo.
 // Any exception other than dmbd::InputError, a crash or a sanitizer report is a bug.

@@ -40,7 +40,7 @@ YAML::Node Reader::parse(const std::string& bytes) {
 void Reader::fail_parse(const YAML::Exception& e, const std::string& bytes) {
   const int line = e.mark.is_null() ? 0 : e.mark.line + 1;
   const auto tab = indentation_tab(bytes, std::max(line, 1));
-  if (tab) fail(Location{file_, tab->first, tab->second}, "a tab in the indentation: YAML indents with spaces only (tabs are not allowed)");
+  if (tab) fail(Location{file_, tab->first, tab->second}, "tabs are not allowed in YAML indentation (indent with spaces)");
   if (line == 0) fail(Location{file_, 0, 0}, "malformed YAML: " + e.msg);
   fail(Location{file_, line, e.mark.column + 1}, "malformed YAML: " + e.msg);
 }

@@ -7,12 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "dmbd/base/file.hpp"
+#include "dmbd/base/yaml_reader.hpp"
 #include "dmbd/model/error.hpp"
 
 namespace dmbd::model {
@@ -123,106 +124,90 @@ std::string join(const std::vector<std::string>& v) {
 
 enum class Check { Any, Positive, NonNegative, Fraction, Sign, Whole };
 
+// The table through the located YAML reader: every problem collected, each at its
+// file:line:column.
 class Reader {
  public:
-  explicit Reader(std::string path) : path_(std::move(path)) {}
+  Reader(std::string path, NumberParser numbers) : rd_(std::move(path), std::move(numbers)) {}
 
-  std::vector<ActuatorParams> run(const std::string& text) {
-    YAML::Node root;
-    try {
-      root = YAML::Load(text);
-    } catch (const YAML::Exception& e) {
-      throw ModelError(path_ + ":" + std::to_string(e.mark.line + 1) + ": malformed YAML: " + e.msg);
-    }
-    if (root.IsNull() || !root.IsDefined())
-      throw ModelError(path_ + ":1: expected a map with the key 'actuators' (a list of actuators), got an empty file");
-    if (!root.IsMap()) fail(root, "expected a map with the key 'actuators' (a list of actuators)");
-    keys(root, {"actuators"}, "", "top-level key");
-    const YAML::Node list = root["actuators"];
-    if (!list) throw ModelError(path_ + ":1: missing 'actuators' (a list of actuators)");
-    if (!list.IsSequence() || list.size() == 0) fail(list, "'actuators' must be a non-empty list of actuators");
+  std::vector<ActuatorParams> run(const std::string& bytes) {
     std::vector<ActuatorParams> out;
-    std::set<std::string> joints;
-    for (const YAML::Node& e : list) {
-      ActuatorParams p = actuator(e);
-      if (!joints.insert(p.joint).second) fail(e["joint"], "joint '" + p.joint + "' has a second actuator");
-      out.push_back(std::move(p));
-    }
+    rd_.guard([&] { out = table(rd_.parse(bytes)); });
+    if (rd_.failed()) throw ModelError(join_plain(rd_.diagnostics()));
     return out;
   }
 
  private:
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    const YAML::Mark m = n.Mark();
-    const std::string at = m.is_null() ? path_ : path_ + ":" + std::to_string(m.line + 1);
-    throw ModelError(at + ": " + what);
+  std::vector<ActuatorParams> table(const YAML::Node& root) {
+    const std::string expected = "expected a map with the key 'actuators' (a list of actuators)";
+    if (root.IsNull() || !root.IsDefined()) rd_.fail(Location{rd_.file(), 1, 1}, expected + ", got an empty file");
+    if (!root.IsMap()) fail(root, expected);
+    keys(root, {"actuators"}, "", "top-level key");
+    const YAML::Node list = root["actuators"];
+    if (!list) rd_.fail(Location{rd_.file(), 1, 1}, "missing 'actuators' (a list of actuators)");
+    if (!list.IsSequence() || list.size() == 0) fail(list, "'actuators' must be a non-empty list of actuators");
+    std::vector<ActuatorParams> out;
+    std::set<std::string> joints;
+    for (const YAML::Node& e : list) {
+      rd_.guard([&] {
+        ActuatorParams p = actuator(e);
+        if (!joints.insert(p.joint).second) fail(e["joint"], "joint '" + p.joint + "' has a second actuator");
+        out.push_back(std::move(p));
+      });
+    }
+    return out;
   }
+
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) { rd_.fail(n, what); }
 
   // Every key of `map` must be in `allowed`, once. Messages: "[ctx: ]unknown WHAT 'k' (...)".
-  void keys(const YAML::Node& map, const std::vector<std::string>& allowed, const std::string& ctx,
-            const std::string& what) const {
-    const std::string pre = ctx.empty() ? std::string() : ctx + ": ";
-    std::set<std::string> seen;
-    for (const auto& kv : map) {
-      const std::string k = kv.first.IsScalar() ? kv.first.Scalar() : std::string("?");
-      if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
-        fail(kv.first, pre + "unknown " + what + " '" + k + "' (expected one of: " + join(allowed) + ")");
-      if (!seen.insert(k).second) fail(kv.first, pre + "duplicate " + what + " '" + k + "'");
-    }
+  // A map with a wrong key is left (Skip): its "missing" keys may be the misspelt ones.
+  void keys(const YAML::Node& map, const std::vector<std::string>& allowed, const std::string& ctx, const std::string& what) {
+    if (!rd_.keys(map, allowed, ctx, what)) throw yaml::Skip{};
   }
 
-  YAML::Node require(const YAML::Node& map, const std::string& key, const std::string& ctx) const {
+  YAML::Node require(const YAML::Node& map, const std::string& key, const std::string& ctx) {
     const YAML::Node n = map[key];
     if (!n) fail(map, ctx + ": missing '" + key + "'");
     return n;
   }
 
-  double number(const YAML::Node& map, const std::string& key, const std::string& ctx, Check check,
-                const char* unit) const {
-    const YAML::Node n = require(map, key, ctx);
-    double v = 0;
-    bool ok = n.IsScalar();
-    if (ok) {
-      try {
-        v = n.as<double>();
-      } catch (const YAML::Exception&) {
-        ok = false;
-      }
-    }
-    const std::string u = unit[0] ? std::string(" (") + unit + ")" : std::string();
-    if (!ok || !std::isfinite(v)) fail(n, ctx + ": '" + key + "' must be a finite number" + u);
-    switch (check) {
-      case Check::Any:
-        break;
-      case Check::Positive:
-        if (!(v > 0)) fail(n, ctx + ": '" + key + "' must be > 0" + u + ", got " + num(v));
-        break;
-      case Check::NonNegative:
-        if (!(v >= 0)) fail(n, ctx + ": '" + key + "' must be >= 0" + u + ", got " + num(v));
-        break;
-      case Check::Fraction:
-        if (!(v > 0 && v <= 1)) fail(n, ctx + ": '" + key + "' must be in (0, 1], got " + num(v));
-        break;
-      case Check::Sign:
-        if (v != 1.0 && v != -1.0) fail(n, ctx + ": '" + key + "' must be +1 or -1, got " + num(v));
-        break;
-      case Check::Whole:
-        if (v != std::floor(v) || v < 1 || v > 30)
-          fail(n, ctx + ": '" + key + "' must be a whole number 1..30, got " + num(v));
-        break;
-    }
+  // map[key] as a number that passes `check`; NaN (and the problem recorded) if not.
+  double number(const YAML::Node& map, const std::string& key, const std::string& ctx, Check check, const char* unit) {
+    double v = NAN;
+    rd_.guard([&] {
+      const std::string u = unit[0] ? std::string(" (") + unit + ")" : std::string();
+      const YAML::Node n = require(map, key, ctx);
+      const double got = rd_.number(n, ctx + ": '" + key + "'" + u);
+      if (const std::string why = violation(check, got); !why.empty())
+        fail(n, ctx + ": '" + key + "' must be " + why + (check == Check::Positive || check == Check::NonNegative ? u : "") +
+                    ", got " + num(got));
+      v = got;
+    });
     return v;
   }
 
+  static std::string violation(Check check, double v) {
+    switch (check) {
+      case Check::Any: return "";
+      case Check::Positive: return v > 0 ? "" : "> 0";
+      case Check::NonNegative: return v >= 0 ? "" : ">= 0";
+      case Check::Fraction: return (v > 0 && v <= 1) ? "" : "in (0, 1]";
+      case Check::Sign: return (v == 1.0 || v == -1.0) ? "" : "+1 or -1";
+      case Check::Whole: return (v == std::floor(v) && v >= 1 && v <= 30) ? "" : "a whole number 1..30";
+    }
+    return "";
+  }
+
   YAML::Node submap(const YAML::Node& map, const std::string& key, const std::string& ctx,
-                    const std::vector<std::string>& allowed) const {
+                    const std::vector<std::string>& allowed) {
     const YAML::Node n = require(map, key, ctx);
     if (!n.IsMap()) fail(n, ctx + ": '" + key + "' must be a map with the keys " + join(allowed));
     keys(n, allowed, ctx, key + " key");
     return n;
   }
 
-  ActuatorParams actuator(const YAML::Node& e) const {
+  ActuatorParams actuator(const YAML::Node& e) {
     static const std::vector<std::string> common = {
         "joint",        "kind",    "J_m_kgm2",     "B_m_Nms",        "N_m_rad_per_m",   "K_s_N_per_m",
         "B_s_Ns_per_m", "M_r_kg",  "B_l_Ns_per_m", "k_tau_Nm_per_A", "current_limit_A", "force_limit_N",
@@ -283,7 +268,7 @@ class Reader {
     p.thermal.R_ha_liquid_K_per_W = number(t, "R_ha_liquid_K_per_W", tc, Check::Positive, "K/W");
     p.thermal.T_ambient_C = number(t, "T_ambient_C", tc, Check::Any, "C");
     p.thermal.T_winding_max_C = number(t, "T_winding_max_C", tc, Check::Any, "C");
-    if (!(p.thermal.T_winding_max_C > p.thermal.T_ambient_C))
+    if (p.thermal.T_winding_max_C <= p.thermal.T_ambient_C)
       fail(t["T_winding_max_C"], tc + ": 'T_winding_max_C' must be above 'T_ambient_C'");
 
     const YAML::Node me = submap(e, "motor_encoder", ctx, {"counts_per_unit"});
@@ -297,28 +282,28 @@ class Reader {
     const std::string pc = ctx + " potentiometer";
     p.potentiometer.lo = number(pm, "lo", pc, Check::Any, "rad");
     p.potentiometer.hi = number(pm, "hi", pc, Check::Any, "rad");
-    if (!(p.potentiometer.hi > p.potentiometer.lo)) fail(pm["hi"], pc + ": 'hi' must be above 'lo'");
-    p.potentiometer.adc_bits = static_cast<int>(number(pm, "adc_bits", pc, Check::Whole, ""));
+    if (p.potentiometer.hi <= p.potentiometer.lo) fail(pm["hi"], pc + ": 'hi' must be above 'lo'");
+    const double bits = number(pm, "adc_bits", pc, Check::Whole, "");
+    p.potentiometer.adc_bits = std::isfinite(bits) ? static_cast<int>(bits) : 0;
     p.potentiometer.noise_std = number(pm, "noise_std", pc, Check::NonNegative, "rad");
     p.potentiometer.cutoff_hz = number(pm, "cutoff_hz", pc, Check::NonNegative, "Hz");
     return p;
   }
 
-  std::string path_;
+  yaml::Reader rd_;
 };
 
 }  // namespace
 
-std::vector<ActuatorParams> load_actuators(const std::string& yaml_path) {
-  std::ifstream in(yaml_path, std::ios::binary);
-  if (!in) throw ModelError(yaml_path + ": cannot open the file (expected a YAML actuator table)");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return Reader(yaml_path).run(text.str());
+std::vector<ActuatorParams> load_actuators(const std::string& yaml_path, const NumberParser& numbers) {
+  std::string bytes;
+  if (const auto reason = try_read_file(yaml_path, bytes))
+    throw ModelError(yaml_path + ": cannot read: " + *reason + " (expected a YAML actuator table)");
+  return Reader(yaml_path, numbers).run(bytes);
 }
 
-std::vector<ActuatorParams> draco_actuators() {
-  return load_actuators(std::string(DMBD_DRACO_DIR) + "/actuators.yaml");
+std::vector<ActuatorParams> draco_actuators(const NumberParser& numbers) {
+  return load_actuators(std::string(DMBD_DRACO_DIR) + "/actuators.yaml", numbers);
 }
 
 }  // namespace dmbd::model

@@ -21,6 +21,8 @@
 // Mesh files are resolved and read by mesh_loader.cpp; each distinct file (and
 // scale) is read once and shared. meshes_loaded counts the distinct URIs read,
 // meshes_missing lists the distinct URIs that could not be found or read.
+#include "dmbd/base/file.hpp"
+#include "dmbd/base/text.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "mesh_loader.hpp"
@@ -882,13 +884,11 @@ RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
 RobotDescription load_urdf(const std::string& path, const UrdfOptions& options) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw ModelError(path + ": is a folder (expected a URDF file)");
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw ModelError(path + ": cannot open the file (" + std::strerror(errno) + ")");
-  std::ostringstream text;
-  text << f.rdbuf();
-  if (f.bad()) throw ModelError(path + ": cannot read the file");
+  std::string text;
+  if (const auto reason = try_read_file(path, text)) throw ModelError(path + ": cannot open the file (" + *reason + ")");
+  if (const auto d = not_text(text, path)) throw ModelError(d->where.str() + ": " + d->message);
   const std::string base = fs::path(path).parent_path().string();
-  RobotDescription r = parse_urdf(text.str(), base.empty() ? "." : base, path, options);
+  RobotDescription r = parse_urdf(text, base.empty() ? "." : base, path, options);
   r.source = path;
   return r;
 }

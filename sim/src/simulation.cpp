@@ -9,6 +9,8 @@
 
 #include <fmt/format.h>
 
+#include "event_grid.hpp"
+
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/sensors.hpp"
@@ -24,15 +26,8 @@ constexpr Ns kNever = std::numeric_limits<Ns>::max();
 std::string at(const std::string& where) { return where.empty() ? std::string() : where + ": "; }
 
 Ns period_ns(double rate_hz, const std::string& what) {
-  if (!(rate_hz > 0) || !std::isfinite(rate_hz)) throw InputError(what + ": rate " + fmt::format("{}", rate_hz) + " Hz is not positive");
-  const double p = 1e9 / rate_hz;
-  const Ns r = static_cast<Ns>(std::llround(p));
-  // An absolute tolerance (a millionth of a nanosecond, or the rounding of 1e9 / rate
-  // for very long periods): 1500 Hz is 666666.67 ns, which would tick at 1500.0008 Hz
-  // while the program was discretised at 1500 Hz.
-  if (r <= 0 || std::abs(p - static_cast<double>(r)) > std::max(1e-6, 1e-12 * p))
-    throw InputError(what + ": a rate of " + fmt::format("{}", rate_hz) + " Hz is not a whole number of nanoseconds per period");
-  return r;
+  if (const std::string problem = rate_problem(rate_hz); !problem.empty()) throw InputError(what + ": " + problem);
+  return static_cast<Ns>(std::llround(1e9 / rate_hz));
 }
 
 }  // namespace
@@ -360,7 +355,8 @@ std::vector<unsigned long long> Simulation::controller_clamp_events() const {
 
 Log Simulation::run(const std::function<void(double)>& on_progress) {
   Impl& m = *impl_;
-  if (!(m.spec.duration_s < 1e9)) throw InputError(fmt::format("duration {} s is out of range (the event grid counts nanoseconds: below 1e9 s)", m.spec.duration_s));
+  if (!(m.spec.duration_s < kMaxDurationS))
+    throw InputError(fmt::format("duration {} s is out of range (the event grid counts nanoseconds: below 1e9 s)", m.spec.duration_s));
   const Ns end = static_cast<Ns>(std::llround(m.spec.duration_s * 1e9));
   if (end <= 0) throw InputError(fmt::format("duration {} s is not positive", m.spec.duration_s));
   const Ns log_period = period_ns(m.spec.log_rate_hz, "log");

@@ -1,9 +1,17 @@
 // load_actuators: a valid table, and every kind of mistake reported as
-// "FILE:LINE: what was expected" (ModelError).
+// "FILE:LINE:COLUMN: what was expected" (ModelError), every one of them; numbers
+// through the parser a caller supplies (expressions from blocks).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
+#include "dmbd/blocks/expression_numbers.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/error.hpp"
 
@@ -23,11 +31,13 @@ std::string error_of(const std::string& name) {
   return "";
 }
 
-// The message starts with "PATH:LINE: " and contains `what`.
+// The message starts with "PATH:LINE:COLUMN: " and contains `what`.
 void expect_error(const std::string& name, int line, const std::string& what) {
   const std::string msg = error_of(name);
-  const std::string prefix = fixture(name) + ":" + std::to_string(line) + ": ";
+  const std::string prefix = fixture(name) + ":" + std::to_string(line) + ":";
   EXPECT_EQ(msg.rfind(prefix, 0), 0u) << "expected prefix '" << prefix << "', got: " << msg;
+  const std::size_t column = prefix.size();
+  EXPECT_TRUE(column < msg.size() && std::isdigit(static_cast<unsigned char>(msg[column]))) << "no column: " << msg;
   EXPECT_NE(msg.find(what), std::string::npos) << "expected '" << what << "' in: " << msg;
   EXPECT_EQ(msg.find('\n'), std::string::npos) << "one line: " << msg;
 }
@@ -90,8 +100,8 @@ TEST(LoadActuators, MissingFileNamesTheFile) {
     dm::load_actuators(path);
     FAIL() << "no error";
   } catch (const dm::ModelError& e) {
-    // No line to name: the message is "PATH: cannot open the file (...)".
-    EXPECT_EQ(std::string(e.what()), path + ": cannot open the file (expected a YAML actuator table)");
+    // No line to name: the message is "PATH: cannot read: REASON (...)".
+    EXPECT_EQ(std::string(e.what()), path + ": cannot read: No such file or directory (expected a YAML actuator table)");
   }
 }
 
@@ -119,7 +129,7 @@ TEST(LoadActuators, ZeroStiffness) {
   expect_error("zero_stiffness.yaml", 8, "actuator 'l_knee': 'K_s_N_per_m' must be > 0 (N/m), got 0");
 }
 TEST(LoadActuators, NotANumber) {
-  expect_error("not_a_number.yaml", 8, "actuator 'l_knee': 'K_s_N_per_m' must be a finite number (N/m)");
+  expect_error("not_a_number.yaml", 8, "actuator 'l_knee': 'K_s_N_per_m' (N/m): expected a number, got 'stiff'");
 }
 TEST(LoadActuators, UnknownKind) {
   expect_error("unknown_kind.yaml", 4, "actuator 'l_knee': unknown kind 'SEA' (expected RFSEA or FSEA)");
@@ -135,4 +145,61 @@ TEST(LoadActuators, BadLinkageSign) {
 }
 TEST(LoadActuators, NonPositiveLiquidResistance) {
   expect_error("bad_liquid_resistance.yaml", 19, "thermal: 'R_ha_liquid_K_per_W' must be > 0 (K/W), got -0.1");
+}
+
+namespace {
+
+std::string good_table() {
+  std::ifstream in(fixture("good.yaml"));
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  if (at == std::string::npos) throw std::logic_error("no '" + from + "'");
+  return text.replace(at, from.size(), to);
+}
+
+std::string write_table(const std::string& text) {
+  const std::string path = (std::filesystem::temp_directory_path() / ("dmbd_actuators_" + std::to_string(::getpid()) + ".yaml")).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+}  // namespace
+
+TEST(LoadActuators, EveryProblemIsReportedEachAtItsLine) {
+  std::string text = replaced(good_table(), "K_s_N_per_m: 9.5e6", "K_s_N_per_m: -1");
+  text = replaced(text, "N_m_rad_per_m: 3142", "N_m_rad_per_m: lots");
+  const std::string path = write_table(text);
+  try {
+    dm::load_actuators(path);
+    ADD_FAILURE() << "no error";
+  } catch (const dm::ModelError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg, path + ":8:18: actuator 'l_knee': 'K_s_N_per_m' must be > 0 (N/m), got -1\n" + path +
+                       ":28:20: actuator 'l_ankle': 'N_m_rad_per_m' (rad/m): expected a number, got 'lots'");
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(LoadActuators, ExpressionsWhenTheCallerSuppliesThem) {
+  const std::string path = write_table(replaced(good_table(), "K_s_N_per_m: 9.5e6", "K_s_N_per_m: 9.5*10^6"));
+  EXPECT_THROW(dm::load_actuators(path), dm::ModelError);  // plain numbers by default
+  const auto acts = dm::load_actuators(path, dmbd::blocks::expression_numbers());
+  EXPECT_DOUBLE_EQ(acts[0].K_s_N_per_m, 9.5e6);
+  std::filesystem::remove(path);
+}
+
+TEST(LoadActuators, ATabInTheIndentationIsNamed) {
+  const std::string path = write_table(replaced(good_table(), "    kind: RFSEA", "\tkind: RFSEA"));
+  try {
+    dm::load_actuators(path);
+    ADD_FAILURE() << "no error";
+  } catch (const dm::ModelError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ":4:1: tabs are not allowed in YAML indentation (indent with spaces)");
+  }
+  std::filesystem::remove(path);
 }

@@ -2,6 +2,11 @@
 // "FILE:LINE: " (the line found in the fixture by a marker, not hard-coded), names
 // the element and says what was expected. Fixtures: tests/model/data/urdf/bad/.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
 
 #include "test_urdf_support.hpp"
 
@@ -74,6 +79,15 @@ TEST(UrdfBadInput, MissingFile) {
 
 TEST(UrdfBadInput, Folder) {
   expect_model_error([&] { load_urdf(urdf_data("bad")); }, {urdf_data("bad") + ": is a folder"});
+}
+
+// A binary file is named as not text at its first wrong byte, which is never printed.
+TEST(UrdfBadInput, BinaryFileIsNotText) {
+  const std::string path = (std::filesystem::temp_directory_path() / ("dmbd_binary_" + std::to_string(::getpid()) + ".urdf")).string();
+  std::ofstream(path, std::ios::binary) << std::string("<robot>\n\x7f" "ELF\x02\x01\0", 14);
+  const std::string msg = expect_model_error([&] { load_urdf(path); }, {path + ":2:1: the file is not text: byte 9 is 0x7F"});
+  EXPECT_TRUE(std::all_of(msg.begin(), msg.end(), [](char c) { return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f; })) << msg;
+  std::filesystem::remove(path);
 }
 
 // Text cases: the line is that of the marker in the text.

@@ -385,6 +385,78 @@ TEST(SimScenarioLoad, AMatrixOfMoreThanAThousandVariantsIsALocatedError) {
   check_load_error(dir.file("s.yaml"), {"1024 variants", yaml, "a9: *two", "matrix.a9: 1024 variants (more than 1000)"});
 }
 
+// Issue 13, build 2: the scenario is read by the located YAML reader (base): numbers
+// may be expressions, each limit is checked at the line that gives the value, every
+// problem is reported.
+TEST(SimScenarioLoad, ExpressionsAreAcceptedWhereverANumberIs) {
+  TempDir dir;
+  std::string yaml = replace_line(base_scenario(), "    rate_hz: 1000", "    rate_hz: 2*1000");
+  yaml = replace_line(yaml, "    delay_s: 0.001", "    delay_s: 1/(2*1000)");
+  yaml = replace_line(yaml, "  initial: {l_knee: 1.0}", "  initial: {l_knee: pi/3}");
+  yaml = replace_line(yaml, "duration_s: 0.05", "duration_s: 50e-3");
+  write_text(dir.file("s.yaml"), yaml);
+  const Scenario s = load_scenario(dir.file("s.yaml"));
+  EXPECT_EQ(s.variants[0].controllers[0].rate_hz, 2000.0);
+  EXPECT_EQ(s.variants[0].controllers[0].delay_s, 0.0005);
+  EXPECT_DOUBLE_EQ(s.variants[0].robot.initial[0].second, M_PI / 3);
+  EXPECT_EQ(s.variants[0].duration_s, 0.05);
+  check_load_error(dir.file("s.yaml"), {"unknown name", replace_line(base_scenario(), "    rate_hz: 1000", "    rate_hz: 2*khz"),
+                                        "rate_hz: 2*khz", "controller.rate_hz: expected a number, got '2*khz' ('khz' is not a number or a known constant)"});
+}
+
+TEST(SimScenarioLoad, LimitsAreCheckedAtTheirLine) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml");
+  const std::string b = base_scenario();
+  check_load_error(path, {"duration beyond the nanosecond grid", replace_line(b, "duration_s: 0.05", "duration_s: 1e12"),
+                          "duration_s: 1e12", "duration_s: 1e+12 s is too long (the simulation counts nanoseconds: below 1e9 s)"});
+  check_load_error(path, {"rate off the grid", replace_line(b, "    rate_hz: 1000", "    rate_hz: 1500.5"), "rate_hz: 1500.5",
+                          "not a whole number of nanoseconds per period"});
+  check_load_error(path, {"log rate above 1 GHz", replace_line(b, "log_rate_hz: 1000", "log_rate_hz: 3e9"), "log_rate_hz: 3e9",
+                          "log_rate_hz: a rate of 3000000000 Hz is not a whole number"});
+  check_load_error(path, {"delay longer than a period", replace_line(b, "    delay_s: 0.001", "    delay_s: 0.002"), "delay_s: 0.002",
+                          "controller.delay_s: 0.002 s is longer than one period of 1000 Hz"});
+  check_load_error(path, {"negative noise", b + "sensors: {force_noise_N: -1}\n", "force_noise_N: -1",
+                          "sensors.force_noise_N: expected a number from 0 to"});
+}
+
+TEST(SimScenarioLoad, EveryProblemIsReportedEachAtItsLine) {
+  TempDir dir;
+  std::string yaml = replace_line(base_scenario(), "    rate_hz: 1000", "    rate_hz: fast\n    word_bits: 17");
+  yaml = replace_line(yaml, "duration_s: 0.05", "duration_s: -1");
+  write_text(dir.file("s.yaml"), yaml);
+  try {
+    (void)load_scenario(dir.file("s.yaml"));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    const std::string at = dir.file("s.yaml") + ":";
+    EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 2) << msg;
+    for (const std::string& line : {at + std::to_string(line_of(yaml, "rate_hz: fast")) + ":",
+                                   at + std::to_string(line_of(yaml, "word_bits: 17")) + ":",
+                                   at + std::to_string(line_of(yaml, "duration_s: -1")) + ":"})
+      EXPECT_NE(msg.find(line), std::string::npos) << line << " in " << msg;
+  }
+}
+
+TEST(SimScenarioLoad, FilesThatAreNotScenariosSayWhy) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml");
+  check_load_error(path, {"tab", replace_line(base_scenario(), "  moving: [l_knee]", "\tmoving: [l_knee]"), "\tmoving",
+                          "tabs are not allowed in YAML indentation"});
+  check_load_error(path, {"binary", base_scenario() + "x: \x1b[31m\n", "x: ", "the file is not text"});
+  auto error_of = [](const std::string& p) {
+    try {
+      (void)load_scenario(p);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_of(dir.path().string()), dir.path().string() + ": cannot read the scenario file: it is a directory");
+  EXPECT_EQ(error_of(dir.file("none.yaml")), dir.file("none.yaml") + ": cannot read the scenario file: No such file or directory");
+}
+
 // ------------------------------------------------------------------------- variants and matrix
 
 TEST(SimScenarioVariants, MatrixNamesOverridesAndCombinedCsv) {

@@ -17,10 +17,17 @@ inline std::string without_column(const std::string& message) {
   return (message.rfind("column ", 0) == 0 && colon != std::string::npos) ? message.substr(colon + 2) : message;
 }
 
+// A name that is neither a constant nor one of `parameters` is "expected a number" (a
+// word where a number belongs), not the expression parser's hint about --param.
 inline NumberParser expression_numbers(ParameterMap parameters = {}) {
   return [parameters = std::move(parameters)](const std::string& text) {
     try {
-      return Expression::parse(text).evaluate(parameters);
+      const Expression e = Expression::parse(text);
+      for (const std::string& name : e.parameters())
+        if (!parameters.count(name))
+          throw NumberError(0, "expected a number, got '" + text + "'" +
+                                   (name == text ? std::string() : " ('" + name + "' is not a number or a known constant)"));
+      return e.evaluate(parameters);
     } catch (const ExpressionError& e) {
       throw NumberError(e.column(), without_column(e.what()));
     }

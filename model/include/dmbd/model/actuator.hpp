@@ -5,6 +5,7 @@
 // model/src/plant*.cpp. Units are SI; N_m is in radians of motor per metre of
 // ball-screw travel (see docs/paper-actuators.md, "Units").
 
+#include "dmbd/base/number_parser.hpp"
 #include "dmbd/model/sensors.hpp"
 #include "dmbd/model/thermal.hpp"
 
@@ -84,11 +85,14 @@ struct ActuatorParams {
   double force_per_amp_N_per_A() const { return k_tau_Nm_per_A * N_m_rad_per_m; }
 };
 
-// Reads the per-joint table (model/draco/actuators.yaml for DRACO). Throws ModelError
-// naming the file, the line and what was expected.
-std::vector<ActuatorParams> load_actuators(const std::string& yaml_path);
+// Reads the per-joint table (model/draco/actuators.yaml for DRACO) with the located
+// YAML reader (dmbd/base/yaml_reader.hpp). Throws ModelError naming the file, the line
+// and column, and what was expected: every problem, one line each. Numbers are read by
+// `numbers`: plain numbers unless a caller above model supplies expressions
+// (blocks::expression_numbers()).
+std::vector<ActuatorParams> load_actuators(const std::string& yaml_path, const NumberParser& numbers = plain_number);
 
 // DRACO's table (load_actuators of DMBD_DRACO_DIR/actuators.yaml).
-std::vector<ActuatorParams> draco_actuators();
+std::vector<ActuatorParams> draco_actuators(const NumberParser& numbers = plain_number);
 
 }  // namespace dmbd::model

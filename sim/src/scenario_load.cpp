@@ -1,0 +1,516 @@
+// Reading a scenario file (docs/scenario-format.md) with the located YAML reader: every
+// problem collected and named file:line:column, expressions wherever a number is,
+// unknown keys rejected, each limit checked at the line that gives the value.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "event_grid.hpp"
+
+#include "dmbd/base/file.hpp"
+#include "dmbd/base/yaml_reader.hpp"
+#include "dmbd/blocks/expression_numbers.hpp"
+#include "dmbd/sim/scenario.hpp"
+
+namespace dmbd::sim {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Limits of what a scenario may ask for (each checked at its line).
+constexpr std::size_t kMaxVariants = 1000;
+constexpr long long kMaxFramePixels = 16384;
+constexpr long long kMaxFrames = 1000000;
+constexpr long long kMaxExactInteger = 1LL << 53;  // doubles hold every integer up to here
+
+// The scenario's reading on top of yaml::Reader (which records every problem): a
+// function that meets a wrong value records it and throws yaml::Skip, and optional()
+// and each list entry catch it, so that one mistake loses only its own value.
+struct Reader {
+  mutable yaml::Reader rd;
+  std::string dir;
+
+  std::string at(const YAML::Node& n) const { return rd.at(n).str(); }
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const { rd.fail(n, what); }
+  // f(map[key]) when the map has the key; its problems recorded and reading going on.
+  template <class F>
+  void optional(const YAML::Node& map, const char* key, F&& f) const {
+    if (const YAML::Node v = map[key]) rd.guard([&] { f(v); });
+  }
+  // f(e) for each entry of a list, each one's problems recorded apart.
+  template <class F>
+  void each(const YAML::Node& list, F&& f) const {
+    for (const auto& e : list) rd.guard([&] { f(e); });
+  }
+  // The value of a key the map n must have.
+  YAML::Node required(const YAML::Node& n, const char* key, const std::string& what) const {
+    if (!n[key]) fail(n, what + ": expected '" + key + "'");
+    return n[key];
+  }
+  std::string key(const YAML::Node& k, const std::string& what) const { return rd.key(k, what); }
+  YAML::Node list(const YAML::Node& map, const char* key, const std::string& what) const { return rd.list(map, key, what); }
+  // A map with an unknown key is not read further: its missing keys may be misspelt ones.
+  void keys(const YAML::Node& n, const std::string& what, std::initializer_list<const char*> allowed) const {
+    if (!rd.keys(n, std::vector<std::string>(allowed.begin(), allowed.end()), what)) throw yaml::Skip{};
+  }
+  double number(const YAML::Node& n, const std::string& what) const { return rd.number(n, what); }
+  long long integer(const YAML::Node& n, const std::string& what, long long lo, long long hi) const {
+    return rd.integer(n, what, lo, hi);
+  }
+  double positive(const YAML::Node& n, const std::string& what) const { return rd.positive(n, what); }
+  std::string text(const YAML::Node& n, const std::string& what) const { return rd.text(n, what); }
+  bool boolean(const YAML::Node& n, const std::string& what) const { return rd.boolean(n, what); }
+  // A rate of the co-simulation's nanosecond grid.
+  double rate(const YAML::Node& n, const std::string& what) const {
+    const double r = positive(n, what);
+    if (const std::string problem = rate_problem(r); !problem.empty()) fail(n, what + ": " + problem);
+    return r;
+  }
+  double duration(const YAML::Node& n, const std::string& what) const {
+    const double d = positive(n, what);
+    if (!(d < kMaxDurationS)) fail(n, fmt::format("{}: {:g} s is too long (the simulation counts nanoseconds: below 1e9 s)", what, d));
+    return d;
+  }
+  Eigen::Vector3d vec3(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsSequence() || n.size() != 3) fail(n, what + ": expected a list of 3 numbers");
+    return {number(n[0], what), number(n[1], what), number(n[2], what)};
+  }
+  // A name or a list of names; where[prefix + ":" + name] is set to each one's location.
+  std::vector<std::string> names(const YAML::Node& n, const std::string& what, std::map<std::string, std::string>* where = nullptr,
+                                 const std::string& prefix = "") const {
+    std::vector<std::string> r;
+    if (n.IsScalar()) {
+      if (where) (*where)[prefix + ":" + n.Scalar()] = at(n);
+      return {n.Scalar()};
+    }
+    if (!n.IsSequence()) fail(n, what + ": expected a list of names");
+    for (const auto& e : n) {
+      r.push_back(text(e, what));
+      if (where) (*where)[prefix + ":" + r.back()] = at(e);
+    }
+    return r;
+  }
+  std::vector<std::pair<std::string, double>> angles(const YAML::Node& n, const std::string& what,
+                                                     std::map<std::string, std::string>* where = nullptr, const std::string& prefix = "") const {
+    if (!n.IsMap()) fail(n, what + ": expected a map of joint: value");
+    std::vector<std::pair<std::string, double>> r;
+    for (const auto& kv : n) {
+      const std::string k = key(kv.first, what);
+      r.emplace_back(k, number(kv.second, what + "." + k));
+      if (where) (*where)[prefix + ":" + r.back().first] = at(kv.first);
+    }
+    return r;
+  }
+  std::string path(const YAML::Node& n, const std::string& what) const {
+    const std::string p = text(n, what);
+    const fs::path full = fs::path(p).is_absolute() ? fs::path(p) : fs::path(dir) / p;
+    std::error_code ec;  // the throwing fs::exists escaped on a name too long for the system
+    const bool exists = fs::exists(full, ec);
+    if (ec) fail(n, what + ": cannot use the file '" + full.string() + "': " + ec.message());
+    if (!exists) fail(n, what + ": file '" + full.string() + "' does not exist");
+    return full.lexically_normal().string();
+  }
+
+  Source source(const YAML::Node& n, const std::string& what) const {
+    Source s;
+    if (n.IsSequence()) {  // a sum of sources
+      if (n.size() == 0) fail(n, what + ": expected at least one source");
+      s = source(n[0], what);
+      for (std::size_t k = 1; k < n.size(); ++k) s.plus.push_back(source(n[k], what));
+      return s;
+    }
+    if (n.IsScalar()) {
+      s.offset = number(n, what);
+      return s;
+    }
+    keys(n, what, {"type", "value", "offset", "amplitude", "start_s", "duration_s", "freq_hz", "f0_hz", "f1_hz", "ramp_s", "steps"});
+    if (!n["type"]) fail(n, what + ": expected 'type' (constant, steps, sine or chirp)");
+    const std::string type = text(n["type"], what + ".type");
+    if (n["offset"]) s.offset = number(n["offset"], what + ".offset");
+    if (n["value"]) s.offset = number(n["value"], what + ".value");
+    if (n["amplitude"]) s.amplitude = number(n["amplitude"], what + ".amplitude");
+    if (n["start_s"]) s.start_s = number(n["start_s"], what + ".start_s");
+    if (n["duration_s"]) s.duration_s = number(n["duration_s"], what + ".duration_s");
+    if (n["ramp_s"]) s.ramp_s = number(n["ramp_s"], what + ".ramp_s");
+    if (type == "constant") {
+      s.kind = Source::Kind::Constant;
+    } else if (type == "steps") {
+      s.kind = Source::Kind::Steps;
+      if (!n["steps"] || !n["steps"].IsSequence()) fail(n, what + ": a steps source needs 'steps: [[time_s, value], ...]'");
+      double last = -1e300;
+      for (const auto& e : n["steps"]) {
+        if (!e.IsSequence() || e.size() != 2) fail(e, what + ".steps: expected [time_s, value]");
+        const double t = number(e[0], what + ".steps time"), v = number(e[1], what + ".steps value");
+        if (t < last) fail(e, what + ".steps: times must not decrease");
+        last = t;
+        s.steps.emplace_back(t, v);
+      }
+    } else if (type == "sine") {
+      s.kind = Source::Kind::Sine;
+      if (!n["freq_hz"]) fail(n, what + ": a sine needs freq_hz");
+      s.freq_hz = positive(n["freq_hz"], what + ".freq_hz");
+    } else if (type == "chirp") {
+      s.kind = Source::Kind::Chirp;
+      if (!n["f0_hz"] || !n["f1_hz"] || !n["duration_s"]) fail(n, what + ": a chirp needs f0_hz, f1_hz and duration_s");
+      s.f0_hz = positive(n["f0_hz"], what + ".f0_hz");
+      s.f1_hz = positive(n["f1_hz"], what + ".f1_hz");
+      if (!(s.duration_s > 0)) fail(n["duration_s"], what + ".duration_s: expected a positive number");
+    } else {
+      fail(n["type"], what + ": unknown source type '" + type + "' (expected constant, steps, sine or chirp)");
+    }
+    return s;
+  }
+
+
+  void robot(const YAML::Node& n, RobotSetup& r) const {
+    keys(n, "robot", {"urdf", "base", "base_pose", "actuators", "moving", "freeze", "initial", "lock", "payloads", "loads",
+                      "contact", "gravity"});
+    optional(n, "urdf", [&](const YAML::Node& u) { r.urdf = text(u, "robot.urdf") == "draco" ? "draco" : path(u, "robot.urdf"); });
+    optional(n, "base", [&](const YAML::Node& b) {
+      const std::string t = text(b, "robot.base");
+      if (t == "fixed") r.base = model::BaseMode::Fixed;
+      else if (t == "floating") r.base = model::BaseMode::Floating;
+      else fail(b, "robot.base: expected fixed or floating, got '" + t + "'");
+    });
+    optional(n, "base_pose", [&](const YAML::Node& p) { r.X_WB = base_pose(p); });
+    optional(n, "actuators", [&](const YAML::Node& a) {
+      r.all_actuators = a.IsScalar() && a.Scalar() == "all";
+      r.actuators = r.all_actuators ? std::vector<std::string>{} : names(a, "robot.actuators", &r.where, "actuators");
+    });
+    optional(n, "moving", [&](const YAML::Node& m) {
+      r.freeze_all_others = true;
+      r.moving = names(m, "robot.moving", &r.where, "moving");
+    });
+    optional(n, "freeze", [&](const YAML::Node& f) { r.freeze = angles(f, "robot.freeze", &r.where, "freeze"); });
+    optional(n, "initial", [&](const YAML::Node& i) { r.initial = angles(i, "robot.initial", &r.where, "initial"); });
+    optional(n, "lock", [&](const YAML::Node& l) { r.lock = angles(l, "robot.lock", &r.where, "lock"); });
+    optional(n, "payloads", [&](const YAML::Node&) { payloads(n, r); });
+    optional(n, "loads", [&](const YAML::Node&) { loads(n, r); });
+    optional(n, "contact", [&](const YAML::Node& c) { r.contact = boolean(c, "robot.contact"); });
+    optional(n, "gravity", [&](const YAML::Node& g) { r.gravity_m_s2 = number(g, "robot.gravity"); });
+  }
+
+  Eigen::Isometry3d base_pose(const YAML::Node& p) const {
+    keys(p, "robot.base_pose", {"xyz", "rpy"});
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    if (p["xyz"]) X.translation() = vec3(p["xyz"], "robot.base_pose.xyz");
+    if (p["rpy"]) {
+      const Eigen::Vector3d rpy = vec3(p["rpy"], "robot.base_pose.rpy");
+      X.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                    Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+                       .toRotationMatrix();
+    }
+    return X;
+  }
+
+  void payloads(const YAML::Node& n, RobotSetup& r) const {
+    r.payloads.clear();
+    each(list(n, "payloads", "robot.payloads"), [&](const YAML::Node& e) {
+      keys(e, "robot.payloads", {"link", "mass_kg", "com", "inertia_kgm2"});
+      Payload p;
+      p.link = text(required(e, "link", "robot.payloads"), "payload.link");
+      p.mass_kg = positive(required(e, "mass_kg", "robot.payloads"), "payload.mass_kg");
+      r.where["payloads:" + p.link] = at(e["link"]);
+      if (e["com"]) p.com_L = vec3(e["com"], "payload.com");
+      if (e["inertia_kgm2"]) p.inertia_kgm2 = vec3(e["inertia_kgm2"], "payload.inertia_kgm2");
+      r.payloads.push_back(p);
+    });
+  }
+
+  void loads(const YAML::Node& n, RobotSetup& r) const {
+    r.loads.clear();
+    each(list(n, "loads", "robot.loads"), [&](const YAML::Node& e) {
+      keys(e, "robot.loads", {"joint", "reflected_mass_kg"});
+      r.loads.push_back({text(required(e, "joint", "robot.loads"), "load.joint"),
+                         positive(required(e, "reflected_mass_kg", "robot.loads"), "load.reflected_mass_kg")});
+      r.where["loads:" + r.loads.back().joint] = at(e["joint"]);
+    });
+  }
+
+  ControllerSetup controller(const YAML::Node& n) const {
+    keys(n, "controller", {"name", "diagram", "parameters", "rate_hz", "delay_s", "scalar", "word_bits", "inputs", "outputs"});
+    ControllerSetup c;
+    if (!n["name"] || !n["diagram"]) fail(n, "controller: expected 'name' and 'diagram'");
+    c.where = at(n["name"]);
+    c.name = text(n["name"], "controller.name");
+    const std::string ctx = "controller '" + c.name + "'";
+    optional(n, "diagram", [&](const YAML::Node& d) { c.diagram = path(d, ctx + ".diagram"); });
+    optional(n, "parameters", [&](const YAML::Node& p) { c.parameters = angles(p, ctx + ".parameters"); });
+    optional(n, "rate_hz", [&](const YAML::Node& r) { c.rate_hz = rate(r, "controller.rate_hz"); });
+    optional(n, "delay_s", [&](const YAML::Node& d) {
+      const double delay = rd.number_in(d, "controller.delay_s", 0.0, 1e9, "s");
+      if (delay > 1.0 / c.rate_hz)
+        fail(d, fmt::format("controller.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, c.rate_hz, 1.0 / c.rate_hz));
+      c.delay_s = delay;
+    });
+    optional(n, "scalar", [&](const YAML::Node& s) {
+      const std::string t = text(s, "controller.scalar");
+      if (t == "double") c.scalar = Scalar::Double;
+      else if (t == "float") c.scalar = Scalar::Float;
+      else if (t == "fixed") c.scalar = Scalar::Fixed;
+      else fail(s, "controller.scalar: expected double, float or fixed, got '" + t + "'");
+    });
+    optional(n, "word_bits", [&](const YAML::Node& w) {
+      c.word_bits = static_cast<int>(integer(w, "controller.word_bits", 16, 32));
+      if (c.word_bits != 16 && c.word_bits != 32) fail(w, "controller.word_bits: expected 16 or 32");
+    });
+    for (const char* side : {"inputs", "outputs"}) rd.guard([&] { ports(n, side, c); });
+    return c;
+  }
+
+  // The controller's program ports bound to bus signals.
+  void ports(const YAML::Node& n, const std::string& side, ControllerSetup& c) const {
+    const std::string ctx = "controller '" + c.name + "'." + side;
+    if (!n[side]) fail(n, "controller '" + c.name + "': expected '" + side + "' (program port: bus signal)");
+    if (!n[side].IsMap()) fail(n[side], ctx + ": expected a map of port: signal");
+    const bool inputs = side == "inputs";
+    for (const auto& kv : n[side]) {
+      rd.guard([&] {
+        (inputs ? c.inputs : c.outputs).emplace_back(key(kv.first, ctx), text(kv.second, side));
+        (inputs ? c.input_where : c.output_where).push_back(at(kv.second));
+      });
+    }
+  }
+
+  void integration(const YAML::Node& n, IntegrationSetup& in) const {
+    keys(n, "integration", {"mode", "step_s", "accuracy"});
+    optional(n, "mode", [&](const YAML::Node& m) {
+      const std::string t = text(m, "integration.mode");
+      if (t == "fixed") in.mode = model::Integration::Fixed;
+      else if (t == "accurate") in.mode = model::Integration::Accurate;
+      else fail(m, "integration.mode: expected fixed or accurate, got '" + t + "'");
+    });
+    optional(n, "step_s", [&](const YAML::Node& s) {
+      const double step = positive(s, "integration.step_s");
+      if (step > 0.01) fail(s, "integration.step_s: " + fmt::format("{}", step) + " s is longer than 10 ms (expected 0.1 to 2 ms)");
+      in.step_s = step;
+    });
+    optional(n, "accuracy", [&](const YAML::Node& a) {
+      const double acc = positive(a, "integration.accuracy");
+      if (acc >= 0.1) fail(a, "integration.accuracy: " + fmt::format("{}", acc) + " is not a small relative accuracy (expected 1e-8 to 1e-3)");
+      in.accuracy = acc;
+    });
+  }
+
+  // Fields a variant may override (everything but frames, plots, experiment).
+  void variant_fields(const YAML::Node& n, VariantSetup& v) const {
+    optional(n, "robot", [&](const YAML::Node& r) { robot(r, v.robot); });
+    optional(n, "controllers", [&](const YAML::Node& cs) {
+      v.controllers.clear();
+      if (!cs.IsSequence()) fail(cs, "controllers: expected a list");
+      each(cs, [&](const YAML::Node& c) { v.controllers.push_back(controller(c)); });
+    });
+    optional(n, "references", [&](const YAML::Node& rs) {
+      v.references.clear();
+      if (!rs.IsMap()) fail(rs, "references: expected a map of name: source");
+      for (const auto& kv : rs)
+        rd.guard([&] {
+          const std::string name = key(kv.first, "references");
+          v.references.push_back({name, source(kv.second, "reference '" + name + "'"), at(kv.first)});
+        });
+    });
+    optional(n, "forces", [&](const YAML::Node&) { forces(n, v); });
+    optional(n, "duration_s", [&](const YAML::Node& d) { v.duration_s = duration(d, "duration_s"); });
+    optional(n, "log_rate_hz", [&](const YAML::Node& r) { v.log_rate_hz = rate(r, "log_rate_hz"); });
+    optional(n, "sensors", [&](const YAML::Node& s) { sensors(s, v); });
+    optional(n, "integration", [&](const YAML::Node& i) { integration(i, v.integration); });
+    optional(n, "thermal", [&](const YAML::Node& t) { thermal(t, v); });
+  }
+
+  void forces(const YAML::Node& n, VariantSetup& v) const {
+    v.forces.clear();
+    each(list(n, "forces", "forces"), [&](const YAML::Node& e) {
+      keys(e, "force", {"link", "point", "direction", "source"});
+      ForceSpec f;
+      f.link = text(required(e, "link", "force"), "force.link");
+      f.where = at(e["link"]);
+      if (e["point"]) f.point_L = vec3(e["point"], "force.point");
+      if (e["direction"]) f.direction_W = vec3(e["direction"], "force.direction");
+      if (!e["source"]) fail(e, "force: expected 'source'");
+      f.source = source(e["source"], "force.source");
+      v.forces.push_back(f);
+    });
+  }
+
+  void sensors(const YAML::Node& s, VariantSetup& v) const {
+    keys(s, "sensors", {"noise", "seed", "force_noise_N"});
+    optional(s, "noise", [&](const YAML::Node& x) { v.sensor_noise = boolean(x, "sensors.noise"); });
+    optional(s, "seed", [&](const YAML::Node& x) { v.seed = static_cast<uint64_t>(integer(x, "sensors.seed", 0, kMaxExactInteger)); });
+    optional(s, "force_noise_N", [&](const YAML::Node& x) { v.force_noise_N = rd.number_in(x, "sensors.force_noise_N", 0.0, 1e9, "N"); });
+  }
+
+  void thermal(const YAML::Node& t, VariantSetup& v) const {
+    keys(t, "thermal", {"cooling"});
+    if (!t["cooling"]) fail(t, "thermal: expected 'cooling: on, off or both'");
+    const std::string c = t["cooling"].IsScalar() ? t["cooling"].Scalar() : "";
+    if (c == "on" || c == "true") v.cooling = Cooling::On;
+    else if (c == "off" || c == "false") v.cooling = Cooling::Off;
+    else if (c == "both") v.cooling = Cooling::Both;
+    else fail(t["cooling"], "thermal.cooling: expected on, off or both");
+  }
+};
+
+const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "controllers", "references", "forces", "duration_s",
+                                                         "log_rate_hz", "sensors", "thermal", "integration"};
+
+void read_variants(const Reader& rd, const YAML::Node& list, const VariantSetup& base, Scenario& s) {
+  if (!list.IsSequence()) rd.fail(list, "variants: expected a list");
+  rd.each(list, [&](const YAML::Node& n) {
+    rd.keys(n, "variant", kVariantKeys);
+    VariantSetup v = base;
+    if (!n["name"]) rd.fail(n, "variant: expected 'name'");
+    v.name = rd.text(n["name"], "variant.name");
+    rd.variant_fields(n, v);
+    s.variants.push_back(v);
+  });
+}
+
+// Every combination of one value per axis, named "a/b/...".
+void read_matrix(const Reader& rd, const YAML::Node& matrix, const VariantSetup& base, Scenario& s) {
+  if (!matrix.IsMap()) rd.fail(matrix, "matrix: expected a map of axis: [values]");
+  s.variants.push_back(base);
+  s.variants.back().name.clear();
+  for (const auto& axis : matrix) {
+    const std::string an = rd.key(axis.first, "matrix");
+    if (!axis.second.IsSequence() || axis.second.size() == 0) rd.fail(axis.second, "matrix." + an + ": expected a list of values");
+    if (s.variants.size() * axis.second.size() > kMaxVariants)
+      rd.fail(axis.first, fmt::format("matrix.{}: {} variants (more than {}): split the scenario", an,
+                                       s.variants.size() * axis.second.size(), kMaxVariants));
+    std::vector<VariantSetup> next;
+    for (const VariantSetup& prev : s.variants)
+      for (const auto& n : axis.second) {
+        rd.keys(n, "matrix." + an, kVariantKeys);
+        if (!n["name"]) rd.fail(n, "matrix." + an + ": each value needs a 'name'");
+        VariantSetup v = prev;
+        const std::string vn = rd.text(n["name"], "name");
+        v.name = prev.name.empty() ? vn : prev.name + "/" + vn;
+        v.axes.emplace_back(an, vn);
+        rd.variant_fields(n, v);
+        next.push_back(v);
+      }
+    s.variants = next;
+  }
+}
+
+void read_frames(const Reader& rd, const YAML::Node& f, const std::set<std::string>& variants, FrameSetup& frames) {
+  if (f.IsScalar()) {
+    frames.enabled = rd.boolean(f, "frames");
+    return;
+  }
+  rd.keys(f, "frames", {"enabled", "fps", "width", "height", "max_frames", "camera", "variant"});
+  rd.optional(f, "enabled", [&](const YAML::Node& x) { frames.enabled = rd.boolean(x, "frames.enabled"); });
+  rd.optional(f, "fps", [&](const YAML::Node& x) { frames.fps = rd.positive(x, "frames.fps"); });
+  rd.optional(f, "width", [&](const YAML::Node& x) { frames.width_px = static_cast<int>(rd.integer(x, "frames.width", 1, kMaxFramePixels)); });
+  rd.optional(f, "height", [&](const YAML::Node& x) { frames.height_px = static_cast<int>(rd.integer(x, "frames.height", 1, kMaxFramePixels)); });
+  rd.optional(f, "max_frames", [&](const YAML::Node& x) { frames.max_frames = static_cast<int>(rd.integer(x, "frames.max_frames", 1, kMaxFrames)); });
+  rd.optional(f, "camera", [&](const YAML::Node& c) {
+    rd.keys(c, "frames.camera", {"position", "look_at"});
+    if (c["position"]) frames.camera_position = rd.vec3(c["position"], "frames.camera.position");
+    if (c["look_at"]) frames.camera_look_at = rd.vec3(c["look_at"], "frames.camera.look_at");
+  });
+  rd.optional(f, "variant", [&](const YAML::Node& x) {
+    frames.variant = rd.text(x, "frames.variant");
+    if (!variants.count(frames.variant)) rd.fail(x, "frames.variant: no variant is named '" + frames.variant + "'");
+  });
+}
+
+void read_plots(const Reader& rd, const YAML::Node& root, std::vector<PlotSetup>& plots) {
+  rd.each(rd.list(root, "plots", "plots"), [&](const YAML::Node& p) {
+    rd.keys(p, "plot", {"title", "y_label", "file", "signals"});
+    PlotSetup ps;
+    if (p["title"]) ps.title = rd.text(p["title"], "plot.title");
+    if (p["y_label"]) ps.y_label = rd.text(p["y_label"], "plot.y_label");
+    if (!p["file"] || !p["signals"]) rd.fail(p, "plot: expected 'file' and 'signals'");
+    ps.file = rd.text(p["file"], "plot.file");
+    ps.signals = rd.names(p["signals"], "plot.signals");
+    plots.push_back(ps);
+  });
+}
+
+// The keys each analysis reads (experiments.cpp, sysid_experiment.cpp): a name (true)
+// or a number (false).
+const std::map<std::string, bool>& experiment_keys(const std::string& type) {
+  static const std::map<std::string, std::map<std::string, bool>> kKeys = {
+      {"step_response",
+       {{"reference", true}, {"output", true}, {"step_start_s", false}, {"step_end_s", false}, {"sine_start_s", false}, {"sine_end_s", false}}},
+      {"force_tracking", {{"reference", true}, {"output", true}, {"start_s", false}, {"plot_window_s", false}}},
+      {"thermal", {}},
+      {"standing", {}},
+      {"sysid_rfsea",
+       {{"lead_in_s", false}, {"locked_f0_hz", false}, {"locked_f1_hz", false}, {"free_f0_hz", false}, {"free_f1_hz", false}, {"frequencies", false}}},
+  };
+  return kKeys.at(type);
+}
+
+void read_experiment(const Reader& rd, const YAML::Node& e, ExperimentSetup& x) {
+  if (!e.IsMap() || !e["type"]) rd.fail(e, "experiment: expected a map with 'type'");
+  x.type = rd.text(e["type"], "experiment.type");
+  static const std::set<std::string> kTypes = {"sysid_rfsea", "force_tracking", "step_response", "thermal", "standing"};
+  if (!kTypes.count(x.type))
+    rd.fail(e["type"], "experiment.type: expected sysid_rfsea, force_tracking, step_response, thermal or standing, got '" + x.type + "'");
+  const auto& allowed = experiment_keys(x.type);
+  for (const auto& kv : e) {
+    rd.rd.guard([&] {
+      const std::string k = rd.key(kv.first, "experiment");
+      if (k == "type") return;
+      if (k == "joint") {
+        x.joint = rd.text(kv.second, "experiment.joint");
+        return;
+      }
+      const auto it = allowed.find(k);
+      if (it == allowed.end()) {
+        std::string list = "type, joint";
+        for (const auto& [name, is_text] : allowed) list += ", " + name;
+        rd.fail(kv.first, "experiment " + x.type + ": unknown key '" + k + "' (expected one of: " + list + ")");
+      }
+      if (it->second) x.text[k] = rd.text(kv.second, "experiment." + k);
+      else x.number[k] = rd.number(kv.second, "experiment." + k);
+    });
+  }
+}
+
+Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::string& path) {
+  if (!root.IsMap()) rd.rd.fail(Location{path, 1, 1}, "a scenario is a map (name, robot, controllers, ...)");
+  // Unknown keys are reported and the rest is read all the same.
+  rd.rd.keys(root, {"name", "description", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz", "sensors",
+                    "thermal", "integration", "frames", "plots", "variants", "matrix", "experiment"},
+             "scenario");
+  Scenario s;
+  s.file = path;
+  s.name = fs::path(path).stem().string();
+  rd.optional(root, "name", [&](const YAML::Node& n) { s.name = rd.text(n, "name"); });
+  rd.optional(root, "description", [&](const YAML::Node& n) { s.description = rd.text(n, "description"); });
+  VariantSetup base;
+  base.name = "base";
+  rd.variant_fields(root, base);
+  if (root["variants"] && root["matrix"]) rd.fail(root["matrix"], "give either 'variants' or 'matrix', not both");
+  if (root["variants"]) rd.optional(root, "variants", [&](const YAML::Node& l) { read_variants(rd, l, base, s); });
+  else if (root["matrix"]) rd.optional(root, "matrix", [&](const YAML::Node& m) { read_matrix(rd, m, base, s); });
+  else s.variants.push_back(base);
+  std::set<std::string> seen;
+  for (const auto& v : s.variants)
+    if (!seen.insert(v.name).second) rd.rd.error(Location{path, 0, 0}, "two variants are named '" + v.name + "'");
+  rd.optional(root, "frames", [&](const YAML::Node& f) { read_frames(rd, f, seen, s.frames); });
+  rd.optional(root, "plots", [&](const YAML::Node&) { read_plots(rd, root, s.plots); });
+  rd.optional(root, "experiment", [&](const YAML::Node& e) { read_experiment(rd, e, s.experiment); });
+  return s;
+}
+
+}  // namespace
+
+Scenario load_scenario(const std::string& path) {
+  std::string bytes;
+  if (const auto reason = try_read_file(path, bytes)) throw InputError(path + ": cannot read the scenario file: " + *reason);
+  const Reader rd{yaml::Reader(path, blocks::expression_numbers()), fs::path(path).parent_path().string()};
+  Scenario s;
+  rd.rd.guard([&] { s = read_scenario(rd, rd.rd.parse(bytes), path); });
+  if (rd.rd.failed()) throw InputError(join_plain(rd.rd.diagnostics()));
+  return s;
+}
+
+}  // namespace dmbd::sim
