@@ -841,9 +841,9 @@ int main(int argc, char** argv) {
     for (const auto& d : e.diagnostics()) std::cerr << d.str() << "\n";
     return 2;
   } catch (const InputError& e) {
-    // One line per problem (a scenario reports all of its problems, one a line).
-    std::istringstream lines(e.what());
-    for (std::string line; std::getline(lines, line);) std::cerr << "dmbd: error: " << line << "\n";
+    std::string msg = e.what();
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    std::cerr << "dmbd: error: " << msg << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "dmbd: internal error: " << e.what() << "\n";

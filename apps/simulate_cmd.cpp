@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -81,9 +83,9 @@ int SimulateCommand::run() const {
     return 2;
   } catch (const InputError& e) {
     if (drawn) std::fprintf(stderr, "\n");
-    std::string msg = e.what();
-    std::replace(msg.begin(), msg.end(), '\n', ' ');
-    std::cerr << "dmbd: error: " << msg << "\n";
+    // A scenario reports every problem it has, one a line: one "dmbd: error:" line each.
+    std::istringstream lines(e.what());
+    for (std::string line; std::getline(lines, line);) std::cerr << "dmbd: error: " << line << "\n";
     return 2;
   }
 }

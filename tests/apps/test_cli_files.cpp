@@ -66,4 +66,13 @@ TEST_F(CliFiles, TabsAndLimitsAreNamedAtTheirLine) {
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
+TEST_F(CliFiles, EveryProblemOfAScenarioIsALineOfItsOwn) {
+  const std::string s = write("s.yaml", "name: s\nduration_s: 1e12\nlog_rate_hz: fast\nsensors: {seed: -1}\n");
+  const auto r = run_dmbd({"simulate", s, "--out", (dir_ / "out").string()}, dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "dmbd: error: " + s + ":2:13: duration_s: 1e+12 s is too long (the simulation counts nanoseconds: below 1e9 s)\n" +
+                       "dmbd: error: " + s + ":3:14: log_rate_hz: expected a number, got 'fast'\n" +
+                       "dmbd: error: " + s + ":4:17: sensors.seed: expected a whole number from 0 to 9007199254740992\n");
+}
+
 }  // namespace
