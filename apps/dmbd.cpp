@@ -13,8 +13,11 @@
 #include <vector>
 
 #include "analyze.hpp"
+#include "diagram_picture.hpp"
 #include "model_cmd.hpp"
+#include "report_cmd.hpp"
 #include "simulate_cmd.hpp"
+#include "dmbd/base/file.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/frequency.hpp"
@@ -93,7 +96,7 @@ bool fs_parent_missing(const std::string& path) {
 void write_report(const nlohmann::json& r, const std::string& dir, const std::string& name) {
   const std::string base = (std::filesystem::path(dir) / (name + ".report")).string();
   const std::string js = r.dump(2) + "\n";
-  dmbd::viz::write_file_atomic(base + ".json", std::vector<unsigned char>(js.begin(), js.end()));
+  dmbd::write_file_atomic(base + ".json", std::vector<unsigned char>(js.begin(), js.end()));
   std::ostringstream md;
   md << "# " << name << ": code generation report\n\n"
      << "Generated from " << r["source"].get<std::string>() << " at " << r["rate_hz"].get<double>() << " Hz ("
@@ -173,7 +176,7 @@ void write_report(const nlohmann::json& r, const std::string& dir, const std::st
     }
   }
   const std::string text = md.str();
-  dmbd::viz::write_file_atomic(base + ".md", std::vector<unsigned char>(text.begin(), text.end()));
+  dmbd::write_file_atomic(base + ".md", std::vector<unsigned char>(text.begin(), text.end()));
 }
 
 int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given, const std::string& rate_text,
@@ -240,7 +243,7 @@ int run_codegen(const std::string& diagram, const std::string& tf, bool tf_given
   const std::string header = (std::filesystem::path(out_dir) / (program.name + ".hpp")).string();
   std::optional<cg::FixedProgram> fx;
   if (fixed) fx = cg::make_fixed(program, ranges, word_bits);
-  dmbd::viz::write_file_atomic(header, [&] {
+  dmbd::write_file_atomic(header, [&] {
     const std::string text = fixed ? cg::emit_fixed_header(program, *fx, {scalar, source}) : cg::emit_header(program, {scalar, source});
     return std::vector<unsigned char>(text.begin(), text.end());
   }());
@@ -642,6 +645,35 @@ int run_analyze(const AnalyzeArgs& a) {
 
 }  // namespace
 
+// "dmbd analize": CLI11 would say only that a subcommand is required. One line naming
+// the word, the commands and the closest one.
+std::string unknown_command(CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return "";
+  const std::string word = argv[1];
+  std::string names, closest;
+  std::size_t best = std::string::npos;
+  for (const CLI::App* c : app.get_subcommands([](CLI::App*) { return true; })) {
+    if (c->get_name() == word) return "";
+    names += (names.empty() ? "" : ", ") + c->get_name();
+    // Edit distance (Levenshtein) to suggest the closest name.
+    const std::string& n = c->get_name();
+    std::vector<std::size_t> d(n.size() + 1);
+    for (std::size_t j = 0; j <= n.size(); ++j) d[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      std::size_t prev = d[0];
+      d[0] = i;
+      for (std::size_t j = 1; j <= n.size(); ++j) {
+        const std::size_t cur = d[j];
+        d[j] = std::min({d[j] + 1, d[j - 1] + 1, prev + (word[i - 1] == n[j - 1] ? 0 : 1)});
+        prev = cur;
+      }
+    }
+    if (d[n.size()] < best) best = d[n.size()], closest = n;
+  }
+  return "dmbd: error: unknown command '" + word + "' (expected one of: " + names + ")" +
+         (best <= 2 ? "; did you mean '" + closest + "'?" : "");
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"draco-mbd: model-based design for legged robots (block diagrams, analysis, code generation, "
                "simulation of the DRACO biped)",
@@ -719,7 +751,12 @@ int main(int argc, char** argv) {
 
   dmbd::apps::ModelCommand model_cmd(app);  // dmbd model info
   dmbd::apps::SimulateCommand simulate_cmd(app);  // dmbd simulate
+  dmbd::apps::ReportCommand report_cmd(app);      // dmbd report
 
+  if (const std::string unknown = unknown_command(app, argc, argv); !unknown.empty()) {
+    std::cerr << unknown << "\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -740,6 +777,7 @@ int main(int argc, char** argv) {
     if (*analyze) return run_analyze(an);
     if (model_cmd.selected()) return model_cmd.run();
     if (simulate_cmd.selected()) return simulate_cmd.run();
+    if (report_cmd.selected()) return report_cmd.run();
     if (*tune) {
       const b::ParameterMap params = parse_params(tn.params);
       const double overshoot = parse_number(tn.overshoot, "--max-overshoot");
@@ -786,8 +824,10 @@ int main(int argc, char** argv) {
     if (*draw) {
       const b::ParameterMap params = parse_params(draw_params);
       if (fs_parent_missing(draw_out)) throw InputError("--out '" + draw_out + "': the folder does not exist");
+      if (std::filesystem::path(draw_out).extension() != ".png")
+        throw InputError("--out '" + draw_out + "': dmbd draw writes PNG images (expected a file name ending in .png)");
       const auto d = dmbd::diagrams::Diagram::load(draw_file, params);
-      dmbd::viz::save_diagram_png(*d, draw_out);
+      dmbd::viz::save_diagram_png(dmbd::apps::diagram_picture(*d), draw_out);
       std::cout << "wrote " << draw_out << "\n";
       return 0;
     }

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 
@@ -12,17 +14,34 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/model/error.hpp"
-#include "dmbd/sim/outputs.hpp"
+#include "dmbd/report/report.hpp"
+#include "dmbd/sim/run_directory.hpp"
 
 namespace dmbd::apps {
 
+void print_report(const report::ReportResult& r, const std::string& out) {
+  for (const auto& w : r.warnings) std::cerr << "dmbd: warning: " << w << "\n";
+  for (const auto& f : r.files)
+    if (f.rfind("frames/", 0) != 0) std::cout << "wrote " << out << "/" << f << "\n";
+  if (r.frames > 0) std::cout << fmt::format("wrote {}/frames/ ({} frames, rendered at {:.0f} frames/s)\n", out, r.frames, r.render_fps);
+  std::cout << "report: " << r.page << "\n";
+}
+
+double parse_duration(const std::string& text) {
+  char* end = nullptr;
+  const double d = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(d) || !(d > 0))
+    throw InputError("--duration '" + text + "': expected a positive number of seconds");
+  return d;
+}
+
 SimulateCommand::SimulateCommand(CLI::App& app) {
-  cmd_ = app.add_subcommand("simulate", "Run a scenario against the Simbody model of DRACO and write a log, metrics, plots, frames, "
+  cmd_ = app.add_subcommand("simulate", "Run a scenario against the model of DRACO and write a log, metrics, plots, frames, "
                                         "a video and an HTML report");
   cmd_->add_option("scenario", scenario_, "A scenario file (YAML, docs/scenario-format.md)")->required();
   cmd_->add_option("--out", out_, "Output folder (created if missing)")->required();
   cmd_->add_flag("--no-frames", no_frames_, "Do not render frames or the video");
-  cmd_->add_option("--duration", duration_, "Simulated time of every variant (s), instead of the scenario's")->check(CLI::PositiveNumber);
+  cmd_->add_option("--duration", duration_text_, "Simulated time of every variant (s), instead of the scenario's");
 }
 
 bool SimulateCommand::selected() const { return cmd_->parsed(); }
@@ -42,21 +61,19 @@ int SimulateCommand::run() const {
     drawn = true;
   };
   try {
-    const sim::Scenario s = sim::load_scenario(scenario_);
     sim::ScenarioRunOptions o;
-    o.frames = !no_frames_;
-    if (duration_ > 0) o.duration_s = duration_;
+    if (!duration_text_.empty()) o.duration_s = parse_duration(duration_text_);
+    const sim::Scenario s = sim::load_scenario(scenario_);
     o.on_progress = progress;
-    const sim::ScenarioRunResult r = sim::run_scenario(s, out_, o);
+    const sim::ScenarioRun r = sim::run_scenario(s, out_, o);
     if (drawn) std::fprintf(stderr, "\n");
     for (const auto& run : r.runs)
       std::cout << fmt::format("{}: {:.3g} s simulated in {:.3g} s (real-time factor {:.3g})\n", run.name,
                                run.log.time().empty() ? 0.0 : run.log.time().back(), run.wall_s, run.real_time_factor);
-    for (const auto& f : r.files)
-      if (f.rfind("frames/", 0) != 0) std::cout << "wrote " << out_ << "/" << f << "\n";
-    if (r.frames > 0)
-      std::cout << fmt::format("wrote {}/frames/ ({} frames, rendered at {:.0f} frames/s)\n", out_, r.frames, r.render_fps);
-    std::cout << "report: " << r.report << "\n";
+    for (const auto& f : r.files) std::cout << "wrote " << out_ << "/" << f << "\n";
+    report::ReportOptions ro;
+    ro.frames = !no_frames_;
+    print_report(report::write_report(r, out_, ro), out_);
     return 0;
   } catch (const diagrams::DiagramError& e) {
     if (drawn) std::fprintf(stderr, "\n");
@@ -67,10 +84,6 @@ int SimulateCommand::run() const {
     std::string msg = e.what();
     std::replace(msg.begin(), msg.end(), '\n', ' ');
     std::cerr << "dmbd: error: " << msg << "\n";
-    return 2;
-  } catch (const model::ModelError& e) {
-    if (drawn) std::fprintf(stderr, "\n");
-    std::cerr << "dmbd: error: " << e.what() << "\n";
     return 2;
   }
 }

@@ -1,14 +1,22 @@
 #pragma once
 // `dmbd simulate SCENARIO.yaml --out DIR [--no-frames] [--duration S]`: runs a scenario
-// (docs/scenario-format.md) and writes log.csv, metrics.json, plots/, frames/,
-// video.mp4 and report.html into DIR. A bad scenario or a diverging simulation: one
-// line on stderr, exit code 2.
+// (docs/scenario-format.md), writing the run directory (log.csv, metrics.json: sim),
+// then its report (plots/, frames/, video.mp4, report.html: report/) into DIR. A bad
+// scenario or a diverging simulation: one line on stderr, exit code 2.
 #include <CLI/CLI.hpp>
 
 #include <optional>
 #include <string>
 
+#include "dmbd/report/report.hpp"
+
 namespace dmbd::apps {
+
+// The files a report wrote, one line each (frames as one line), and the page; its
+// warnings on stderr.
+void print_report(const report::ReportResult& r, const std::string& out);
+// --duration: a finite positive number of seconds, else InputError.
+double parse_duration(const std::string& text);
 
 class SimulateCommand {
  public:
@@ -22,7 +30,7 @@ class SimulateCommand {
   CLI::App* cmd_ = nullptr;
   std::string scenario_, out_;
   bool no_frames_ = false;
-  double duration_ = 0;
+  std::string duration_text_;
 };
 
 }  // namespace dmbd::apps

@@ -14,7 +14,8 @@
 
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/viz/renderer.hpp"
-#include "dmbd/viz/robot_scene.hpp"
+#include "dmbd/report/robot_scene.hpp"
+#include "dmbd/viz/primitives.hpp"
 
 namespace {
 
@@ -29,7 +30,7 @@ struct DracoFrames {
   dmbd::viz::Overlays overlays;
 
   DracoFrames()
-      : robot(dmbd::model::load_urdf(DMBD_DRACO_DIR "/draco.urdf")), scene(dmbd::viz::scene_from_robot(robot)) {
+      : robot(dmbd::model::load_urdf(DMBD_DRACO_DIR "/draco.urdf")), scene(dmbd::report::scene_from_robot(robot)) {
     constexpr int kFrames = 60;
     const auto joint = [&](const char* name) { return robot.joint_index(name); };
     double lift = 0;
@@ -42,7 +43,7 @@ struct DracoFrames {
       q[joint("r_knee")] = 0.8 + 0.4 * std::max(0.0, -std::cos(ph));
       q[joint("l_ankle")] = -0.4;
       q[joint("r_ankle")] = -0.4;
-      auto X = dmbd::viz::link_frames(robot, q);
+      auto X = dmbd::model::link_frames(robot, q);
       if (k == 0)
         lift = dmbd::viz::place_on_ground(scene, X);
       else
@@ -119,7 +120,7 @@ BENCHMARK(BM_DracoParts)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 // One-off costs: URDF description -> Scene, and Scene -> renderer (closedness check etc.).
 void BM_SceneFromRobot(benchmark::State& state) {
   const DracoFrames& d = draco();
-  for (auto _ : state) benchmark::DoNotOptimize(dmbd::viz::scene_from_robot(d.robot));
+  for (auto _ : state) benchmark::DoNotOptimize(dmbd::report::scene_from_robot(d.robot));
 }
 BENCHMARK(BM_SceneFromRobot)->Unit(benchmark::kMillisecond);
 

@@ -2,8 +2,10 @@
 
 #include <cctype>
 #include <cerrno>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <vector>
 
@@ -11,18 +13,25 @@
 
 namespace dmbd::blocks {
 
+// A chain `a + b - c` (or `a * b / c`) is one Sum (Product) node whose args are the
+// operands and whose ops[k] / op_columns[k] are the operator before args[k] (ops[0] is
+// '+' or '*'). So the tree's height is bounded by the nesting depth (kMaxDepth), not by
+// the length of a chain: evaluation and the shared_ptr teardown recurse at most that deep.
 struct Expression::Node {
-  enum class Kind { Number, Name, Negate, Add, Sub, Mul, Div, Pow, Call } kind;
+  enum class Kind { Number, Name, Negate, Sum, Product, Pow, Call } kind;
   int column = 0;  // 1-based position of the token that produced the node
   double value = 0.0;
   std::string name;
   std::vector<std::shared_ptr<const Node>> args;
+  std::string ops;
+  std::vector<int> op_columns;
 };
 
 namespace {
 
 using Node = Expression::Node;
 using NodePtr = std::shared_ptr<const Node>;
+using NodeMut = std::shared_ptr<Node>;
 
 std::string quote(std::string_view s) { return "'" + std::string(s) + "'"; }
 
@@ -64,43 +73,57 @@ class Parser {
     return n;
   }
 
+  // `first (op operand)*` as one Sum or Product node (just `first` when there is no op).
+  template <class Operand>
+  NodePtr chain(Node::Kind kind, const char* ops, Operand operand) {
+    NodePtr first = operand();
+    NodeMut n;
+    for (;;) {
+      skip_space();
+      const int c = col();
+      const char op = pos_ < s_.size() ? s_[pos_] : '\0';
+      if (op == '\0' || std::strchr(ops, op) == nullptr) return n ? NodePtr(n) : first;
+      ++pos_;
+      if (!n) n = start_chain(kind, ops[0], std::move(first));
+      n->ops.push_back(op);
+      n->op_columns.push_back(c);
+      n->args.push_back(operand());
+    }
+  }
+  static NodeMut start_chain(Node::Kind kind, char op, NodePtr first) {
+    auto n = std::make_shared<Node>();
+    n->kind = kind;
+    n->column = first->column;
+    n->args.push_back(std::move(first));
+    n->ops.push_back(op);
+    n->op_columns.push_back(n->column);
+    return n;
+  }
+
   NodePtr expr() {
-    NodePtr lhs = term();
-    for (;;) {
-      skip_space();
-      const int c = col();
-      if (accept('+')) {
-        lhs = make(Node::Kind::Add, c, {lhs, term_after(c, '+')});
-      } else if (accept('-')) {
-        lhs = make(Node::Kind::Sub, c, {lhs, term_after(c, '-')});
-      } else {
-        return lhs;
-      }
-    }
+    return chain(Node::Kind::Sum, "+-", [this] { return term(); });
   }
-  NodePtr term_after(int, char) { return term(); }
-
   NodePtr term() {
-    NodePtr lhs = unary();
-    for (;;) {
-      skip_space();
-      const int c = col();
-      if (accept('*')) {
-        lhs = make(Node::Kind::Mul, c, {lhs, unary()});
-      } else if (accept('/')) {
-        lhs = make(Node::Kind::Div, c, {lhs, unary()});
-      } else {
-        return lhs;
-      }
-    }
+    return chain(Node::Kind::Product, "*/", [this] { return unary(); });
   }
 
+  // Every level of nesting (a parenthesis, a call, a sign, an exponent) passes here once.
   NodePtr unary() {
     skip_space();
     const int c = col();
-    if (accept('-')) return make(Node::Kind::Negate, c, {unary()});
-    if (accept('+')) return unary();
-    return power();
+    if (++depth_ > Expression::kMaxDepth)
+      fail("nested more than " + std::to_string(Expression::kMaxDepth) +
+               " levels deep (parentheses, calls, signs and exponents): simplify the expression", c);
+    NodePtr n;
+    if (accept('-')) {
+      n = make(Node::Kind::Negate, c, {unary()});
+    } else if (accept('+')) {
+      n = unary();
+    } else {
+      n = power();
+    }
+    --depth_;
+    return n;
   }
 
   NodePtr power() {
@@ -128,6 +151,8 @@ class Parser {
       }
       return inner;
     }
+    if (++operands_ > Expression::kMaxOperands)
+      fail("more than " + std::to_string(Expression::kMaxOperands) + " numbers and names in one expression", c);
     if (std::isdigit(static_cast<unsigned char>(ch)) ||
         (ch == '.' && pos_ + 1 < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_ + 1])))) {
       auto n = std::make_shared<Node>();
@@ -231,22 +256,13 @@ class Parser {
 
   std::string_view s_;
   size_t pos_ = 0;
+  int depth_ = 0;
+  int operands_ = 0;
 };
 
 bool is_constant(const Rational& r) { return r.num.degree() <= 0 && r.den.degree() == 0; }
 double constant_value(const Rational& r) { return r.num[0] / r.den[0]; }
 Rational constant(double v) { return {Polynomial::constant(v), Polynomial::constant(1.0)}; }
-
-Rational add(const Rational& a, const Rational& b, double sign) {
-  if (is_constant(a) && is_constant(b)) return constant(constant_value(a) + sign * constant_value(b));
-  if (a.den == b.den) return {a.num + sign * b.num, a.den};
-  return {a.num * b.den + sign * (b.num * a.den), a.den * b.den};
-}
-
-Rational mul(const Rational& a, const Rational& b) {
-  if (is_constant(a) && is_constant(b)) return constant(constant_value(a) * constant_value(b));
-  return {a.num * b.num, a.den * b.den};
-}
 
 struct Evaluator {
   const ParameterMap& params;
@@ -256,67 +272,106 @@ struct Evaluator {
 
   static bool is_variable_name(const std::string& n) { return n == "s" || n == "z"; }
 
+  // Checked before a product is formed, so that a long chain cannot build huge polynomials.
+  void check_degree(int degree, int column) const {
+    if (degree > Expression::kMaxDegree)
+      fail("the expression reaches degree " + std::to_string(degree) + " in " + std::string(1, variable) +
+               " (at most " + std::to_string(Expression::kMaxDegree) + ")",
+           column);
+  }
+  Polynomial times(const Polynomial& a, const Polynomial& b, int column) const {
+    check_degree(a.degree() + b.degree(), column);
+    return a * b;
+  }
+
+  Rational add(const Rational& a, const Rational& b, double sign, int column) const {
+    if (is_constant(a) && is_constant(b)) return constant(constant_value(a) + sign * constant_value(b));
+    if (a.den == b.den) return {a.num + sign * b.num, a.den};
+    return {times(a.num, b.den, column) + sign * times(b.num, a.den, column), times(a.den, b.den, column)};
+  }
+  Rational mul(const Rational& a, const Rational& b, int column) const {
+    if (is_constant(a) && is_constant(b)) return constant(constant_value(a) * constant_value(b));
+    return {times(a.num, b.num, column), times(a.den, b.den, column)};
+  }
+  Rational div(const Rational& a, const Rational& b, int column) const {
+    if (b.num.is_zero()) fail("division by zero", column);
+    if (is_constant(a) && is_constant(b)) return constant(constant_value(a) / constant_value(b));
+    return {times(a.num, b.den, column), times(a.den, b.num, column)};
+  }
+
   Rational eval(const Node& n) const {
     switch (n.kind) {
       case Node::Kind::Number:
         return constant(n.value);
-      case Node::Kind::Name: {
-        if (is_variable_name(n.name)) {
-          if (variable == 0)
-            fail(quote(n.name) + " appears where a number is expected", n.column);
-          if (n.name[0] != variable)
-            fail(quote(n.name) + " in a " + (variable == 's' ? "continuous-time expression (use s, or give a sample time for z)"
-                                                              : "discrete-time expression (use z)"),
-                 n.column);
-          return {Polynomial({0.0, 1.0}), Polynomial::constant(1.0)};
-        }
-        if (auto it = params.find(n.name); it != params.end()) {
-          if (!std::isfinite(it->second)) fail("parameter " + quote(n.name) + " is not finite", n.column);
-          return constant(it->second);
-        }
-        if (n.name == "pi") return constant(M_PI);
-        if (n.name == "e") return constant(M_E);
-        fail("unknown parameter " + quote(n.name) + " (give it a value, e.g. --param " + n.name + "=VALUE)", n.column);
-      }
+      case Node::Kind::Name:
+        return name(n);
       case Node::Kind::Negate: {
         Rational r = eval(*n.args[0]);
         return {-r.num, r.den};
       }
-      case Node::Kind::Add:
-        return add(eval(*n.args[0]), eval(*n.args[1]), 1.0);
-      case Node::Kind::Sub:
-        return add(eval(*n.args[0]), eval(*n.args[1]), -1.0);
-      case Node::Kind::Mul:
-        return mul(eval(*n.args[0]), eval(*n.args[1]));
-      case Node::Kind::Div: {
-        const Rational a = eval(*n.args[0]);
-        const Rational b = eval(*n.args[1]);
-        if (b.num.is_zero()) fail("division by zero", n.column);
-        if (is_constant(a) && is_constant(b)) return constant(constant_value(a) / constant_value(b));
-        return {a.num * b.den, a.den * b.num};
-      }
-      case Node::Kind::Pow: {
-        const Rational base = eval(*n.args[0]);
-        const Rational ex = eval(*n.args[1]);
-        if (!is_constant(ex)) fail("the exponent must not contain " + std::string(1, variable), n.args[1]->column);
-        const double e = constant_value(ex);
-        if (is_constant(base)) {
-          const double v = std::pow(constant_value(base), e);
-          if (!std::isfinite(v)) fail("power is not a finite real number", n.column);
-          return constant(v);
-        }
-        if (e != std::round(e) || std::abs(e) > 64)
-          fail("a power of an expression in " + std::string(1, variable) + " needs an integer exponent (|n| <= 64)",
-               n.args[1]->column);
-        const int k = static_cast<int>(e);
-        if (k >= 0) return {base.num.pow(k), base.den.pow(k)};
-        if (base.num.is_zero()) fail("division by zero", n.column);
-        return {base.den.pow(-k), base.num.pow(-k)};
-      }
+      case Node::Kind::Sum:
+      case Node::Kind::Product:
+        return chain(n);
+      case Node::Kind::Pow:
+        return power(n);
       case Node::Kind::Call:
         return call(n);
     }
     fail("internal: unknown node", n.column);
+  }
+
+  Rational name(const Node& n) const {
+    if (is_variable_name(n.name)) {
+      if (variable == 0) fail(quote(n.name) + " appears where a number is expected", n.column);
+      if (n.name[0] != variable)
+        fail(quote(n.name) + " in a " + (variable == 's' ? "continuous-time expression (use s, or give a sample time for z)"
+                                                          : "discrete-time expression (use z)"),
+             n.column);
+      return {Polynomial({0.0, 1.0}), Polynomial::constant(1.0)};
+    }
+    if (auto it = params.find(n.name); it != params.end()) {
+      if (!std::isfinite(it->second)) fail("parameter " + quote(n.name) + " is not finite", n.column);
+      return constant(it->second);
+    }
+    if (n.name == "pi") return constant(M_PI);
+    if (n.name == "e") return constant(M_E);
+    fail("unknown parameter " + quote(n.name) + " (give it a value, e.g. --param " + n.name + "=VALUE)", n.column);
+  }
+
+  // A Sum or Product, folded left to right as `((a op b) op c) ...`.
+  Rational chain(const Node& n) const {
+    Rational r = eval(*n.args[0]);
+    for (size_t k = 1; k < n.args.size(); ++k) {
+      const Rational b = eval(*n.args[k]);
+      const int c = n.op_columns[k];
+      switch (n.ops[k]) {
+        case '+': r = add(r, b, 1.0, c); break;
+        case '-': r = add(r, b, -1.0, c); break;
+        case '*': r = mul(r, b, c); break;
+        default: r = div(r, b, c); break;
+      }
+    }
+    return r;
+  }
+
+  Rational power(const Node& n) const {
+    const Rational base = eval(*n.args[0]);
+    const Rational ex = eval(*n.args[1]);
+    if (!is_constant(ex)) fail("the exponent must not contain " + std::string(1, variable), n.args[1]->column);
+    const double e = constant_value(ex);
+    if (is_constant(base)) {
+      const double v = std::pow(constant_value(base), e);
+      if (!std::isfinite(v)) fail("power is not a finite real number", n.column);
+      return constant(v);
+    }
+    if (e != std::round(e) || std::abs(e) > 64)
+      fail("a power of an expression in " + std::string(1, variable) + " needs an integer exponent (|n| <= 64)",
+           n.args[1]->column);
+    const int k = static_cast<int>(e);
+    check_degree(std::max(base.num.degree(), base.den.degree()) * std::abs(k), n.column);
+    if (k >= 0) return {base.num.pow(k), base.den.pow(k)};
+    if (base.num.is_zero()) fail("division by zero", n.column);
+    return {base.den.pow(-k), base.num.pow(-k)};
   }
 
   Rational call(const Node& n) const {

@@ -71,6 +71,11 @@ int Diagram::find_output(const std::string& n) const {
   return -1;
 }
 
+// A delay of n samples is a dense n x n state-space model, a sum of k inputs of size m
+// an m x km gain: bounded so that a short file cannot ask for gigabytes.
+constexpr int kMaxDelaySamples = 1000;
+constexpr int kMaxSumEntries = 10000000;
+
 // Builds one Diagram, collecting every problem before throwing.
 class Loader {
  public:
@@ -488,6 +493,11 @@ class Loader {
         }
         const int size = blk["size"] ? integer(blk["size"], "size", 1, 1000, 1) : 1;
         const int k = static_cast<int>(signs.size());
+        if (static_cast<double>(size) * size * k > kMaxSumEntries) {
+          error(blk["signs"], "block '" + bl.name + "': " + std::to_string(k) + " inputs of size " + std::to_string(size) +
+                                  " make a matrix of more than " + std::to_string(kMaxSumEntries) + " entries");
+          return;
+        }
         b::Matrix d = b::Matrix::Zero(size, size * k);
         for (int i = 0; i < k; ++i) {
           bl.inputs.push_back({"in" + std::to_string(i + 1), size});
@@ -604,7 +614,7 @@ class Loader {
             error(blk["samples"], "'samples' needs a discrete diagram (a sample_time); use 'seconds'");
             return;
           }
-          bl.delay_samples = integer(blk["samples"], "samples", 0, 100000, 0);
+          bl.delay_samples = integer(blk["samples"], "samples", 0, kMaxDelaySamples, 0);
           bl.delay_s = bl.delay_samples * ts;
         } else {
           bl.delay_s = number(blk["seconds"], "seconds");
@@ -618,6 +628,11 @@ class Loader {
             if (std::abs(n - std::round(n)) > 1e-6 * std::max(1.0, n)) {
               error(blk["seconds"], "a delay of " + std::to_string(bl.delay_s) + " s is not a whole number of samples of " +
                                         std::to_string(ts) + " s");
+              return;
+            }
+            if (n > kMaxDelaySamples) {
+              error(blk["seconds"], "a delay of " + std::to_string(bl.delay_s) + " s is more than " +
+                                        std::to_string(kMaxDelaySamples) + " samples of " + std::to_string(ts) + " s");
               return;
             }
             bl.delay_samples = static_cast<int>(std::round(n));
@@ -945,43 +960,54 @@ class Loader {
   }
 
   // ---- algebraic loops ----------------------------------------------------------------------
+  // Depth-first search for cycles of feedthrough edges, with an explicit stack: a chain of
+  // tens of thousands of blocks must not overflow the call stack (issue 13).
   void algebraic_loops() {
     const auto& bl = d_->blocks_;
-    const int n = static_cast<int>(bl.size());
+    const size_t n = bl.size();
     // Edge a -> b when an output of a drives a feedthrough input of b.
-    std::vector<std::vector<int>> next(static_cast<size_t>(n));
-    for (int bi = 0; bi < n; ++bi) {
-      const auto& drv = d_->drivers_[static_cast<size_t>(bi)];
+    std::vector<std::vector<int>> next(n);
+    for (size_t bi = 0; bi < n; ++bi) {
+      const auto& drv = d_->drivers_[bi];
       for (size_t k = 0; k < drv.size(); ++k)
-        if (drv[k].block >= 0 && bl[static_cast<size_t>(bi)].feedthrough[k])
-          next[static_cast<size_t>(drv[k].block)].push_back(bi);
+        if (drv[k].block >= 0 && bl[bi].feedthrough[k]) next[static_cast<size_t>(drv[k].block)].push_back(static_cast<int>(bi));
     }
-    std::vector<int> state(static_cast<size_t>(n), 0), stack;
+    std::vector<int> state(n, 0), path;  // 0 new, 1 on the path, 2 done; path: the current DFS path
+    std::vector<size_t> edge(n, 0);      // the next edge to follow from each vertex on the path
     std::set<std::set<int>> reported;
-    std::function<void(int)> dfs = [&](int v) {
-      state[static_cast<size_t>(v)] = 1;
-      stack.push_back(v);
-      for (int w : next[static_cast<size_t>(v)]) {
+    for (size_t root = 0; root < n; ++root) {
+      if (state[root] != 0) continue;
+      state[root] = 1;
+      path.push_back(static_cast<int>(root));
+      while (!path.empty()) {
+        const auto v = static_cast<size_t>(path.back());
+        if (edge[v] == next[v].size()) {
+          state[v] = 2;
+          path.pop_back();
+          continue;
+        }
+        const int w = next[v][edge[v]++];
         if (state[static_cast<size_t>(w)] == 1) {
-          auto it = std::find(stack.begin(), stack.end(), w);
-          std::set<int> members(it, stack.end());
-          if (reported.insert(members).second) {
-            std::string names;
-            for (auto j = it; j != stack.end(); ++j) names += bl[static_cast<size_t>(*j)].name + " -> ";
-            names += bl[static_cast<size_t>(w)].name;
-            error(bl[static_cast<size_t>(w)].where,
-                  "algebraic loop: " + names + " (every block in the loop has direct feedthrough; add a delay, a "
-                  "filter or a state)");
-          }
+          report_loop(path, w, reported);
         } else if (state[static_cast<size_t>(w)] == 0) {
-          dfs(w);
+          state[static_cast<size_t>(w)] = 1;
+          path.push_back(w);
         }
       }
-      stack.pop_back();
-      state[static_cast<size_t>(v)] = 2;
-    };
-    for (int v = 0; v < n; ++v)
-      if (state[static_cast<size_t>(v)] == 0) dfs(v);
+    }
+  }
+
+  // The loop closed by an edge from the end of `path` back to w (once per set of blocks).
+  void report_loop(const std::vector<int>& path, int w, std::set<std::set<int>>& reported) {
+    const auto& bl = d_->blocks_;
+    const auto it = std::find(path.begin(), path.end(), w);
+    if (!reported.insert(std::set<int>(it, path.end())).second) return;
+    std::string names;
+    for (auto j = it; j != path.end(); ++j) names += bl[static_cast<size_t>(*j)].name + " -> ";
+    names += bl[static_cast<size_t>(w)].name;
+    error(bl[static_cast<size_t>(w)].where,
+          "algebraic loop: " + names + " (every block in the loop has direct feedthrough; add a delay, a "
+          "filter or a state)");
   }
 
   std::string path_;

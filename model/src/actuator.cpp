@@ -44,6 +44,17 @@ double LinkageGeometry::dmoment_arm_dq_m(double q) const {
 
 double LinkageGeometry::N_l(double q) const { return 1.0 / moment_arm_m(q); }
 
+double LinkageGeometry::angle_for_length_change(double dx, double guess) const {
+  const double target = length_m(0) + dx;
+  double q = guess;
+  for (int it = 0; it < 30; ++it) {
+    const double step = (length_m(q) - target) / moment_arm_m(q);
+    q -= step;
+    if (std::abs(step) < 1e-13) break;
+  }
+  return q;
+}
+
 // ---- LinkageTable ---------------------------------------------------------------------
 
 LinkageTable::LinkageTable(const LinkageGeometry& g, double q_lo, double q_hi, int samples) {

@@ -76,11 +76,98 @@ class Diag {
   std::string label_;
 };
 
+std::string hex(unsigned char c) {
+  static const char* digits = "0123456789ABCDEF";
+  return std::string("0x") + digits[c >> 4] + digits[c & 15];
+}
+
 std::string one_line(std::string s) {
   for (char& c : s)
     if (c == '\n' || c == '\r') c = ' ';
   while (!s.empty() && s.back() == ' ') s.pop_back();
   return s;
+}
+
+// ---------------------------------------------------------------- text guard --
+//
+// TinyXML 2.6.2 (the library urdfdom uses, and XmlPass) is not safe on every text:
+//  - GetChar() steps over a whole UTF-8 sequence as announced by its lead byte, even
+//    when the text ends (or holds a NUL) inside it, and then reads past the string's
+//    terminator. The fuzzer saw this as heap-buffer-overflows in memcpy that did not
+//    reproduce on replay: what lies past the terminator depends on the heap's history
+//    (see fuzz/README.md). Valid UTF-8 without NUL bytes never triggers it.
+//  - Elements are parsed (and freed) recursively: ~37,000 nested elements overflow an
+//    8 MB stack. Nesting is bounded by the number of elements with content.
+// So the text is checked first, with a located error.
+
+constexpr int kMaxContainers = 10000;
+
+// Length of the UTF-8 character at s[i], or 0 if it is not valid UTF-8 (RFC 3629).
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+  const auto at = [&](std::size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
+  const unsigned c = at(i);
+  if (c < 0x80) return 1;
+  std::size_t n = 0;
+  unsigned lo = 0x80, hi = 0xBF;  // the range of the second byte
+  if (c >= 0xC2 && c <= 0xDF) {
+    n = 1;
+  } else if (c >= 0xE0 && c <= 0xEF) {
+    n = 2;
+    lo = c == 0xE0 ? 0xA0 : lo;  // no overlong forms
+    hi = c == 0xED ? 0x9F : hi;  // no surrogates
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    n = 3;
+    lo = c == 0xF0 ? 0x90 : lo;
+    hi = c == 0xF4 ? 0x8F : hi;
+  } else {
+    return 0;
+  }
+  for (std::size_t k = 1; k <= n; ++k) {
+    const unsigned x = at(i + k);
+    if (x < (k == 1 ? lo : 0x80u) || x > (k == 1 ? hi : 0xBFu)) return 0;
+  }
+  return n + 1;
+}
+
+// "FILE:LINE: column C: what" for the byte s[i].
+[[noreturn]] void fail_at(const std::string& s, std::size_t i, const Diag& d, const std::string& what) {
+  const auto before = s.begin() + static_cast<std::ptrdiff_t>(i);
+  const int line = 1 + static_cast<int>(std::count(s.begin(), before, '\n'));
+  const std::size_t start = i == 0 ? std::string::npos : s.rfind('\n', i - 1);
+  const std::size_t column = start == std::string::npos ? i + 1 : i - start;
+  d.fail(line, "column " + std::to_string(column) + ": " + what);
+}
+
+// Does the tag that starts at s[i] == '<' end with "/>"? Quoted attribute values are
+// skipped as TinyXML skips them (a quote right after '=' and blanks); where TinyXML
+// would stop on an error this may answer either way, and then nothing nests deeper.
+bool self_closing(const std::string& s, std::size_t i) {
+  for (++i; i < s.size() && s[i] != '>'; ++i) {
+    if (s[i] != '=') continue;
+    while (i + 1 < s.size() && std::isspace(static_cast<unsigned char>(s[i + 1]))) ++i;
+    if (i + 1 < s.size() && (s[i + 1] == '"' || s[i + 1] == '\'')) {
+      const std::size_t close = s.find(s[i + 1], i + 2);
+      if (close == std::string::npos) return false;
+      i = close;
+    }
+  }
+  return i < s.size() && s[i - 1] == '/';
+}
+
+void check_text(const std::string& s, const Diag& d) {
+  int containers = 0;
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c == 0) fail_at(s, i, d, "a NUL byte (expected XML text)");
+    const std::size_t n = utf8_length(s, i);
+    if (n == 0) fail_at(s, i, d, "byte " + hex(c) + " is not UTF-8 text (expected a UTF-8 file)");
+    const unsigned char next = i + 1 < s.size() ? static_cast<unsigned char>(s[i + 1]) : 0;
+    const bool element = c == '<' && (std::isalpha(next) || next == '_' || next >= 0x80);
+    if (element && !self_closing(s, i) && ++containers > kMaxContainers)
+      fail_at(s, i, d, "more than " + std::to_string(kMaxContainers) +
+                           " elements with content (TinyXML parses nesting recursively; expected a smaller URDF)");
+    i += n;
+  }
 }
 
 // ---------------------------------------------------------------- XML pass ----
@@ -682,6 +769,7 @@ class MeshReader {
 RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir, const std::string& label,
                             const UrdfOptions& options) {
   const Diag d(label.empty() ? std::string("<urdf>") : label);
+  check_text(xml, d);
   TiXmlDocument doc;
   doc.Parse(xml.c_str(), nullptr, TIXML_ENCODING_UTF8);
   if (doc.Error()) {
@@ -803,20 +891,6 @@ RobotDescription load_urdf(const std::string& path, const UrdfOptions& options) 
   RobotDescription r = parse_urdf(text.str(), base.empty() ? "." : base, path, options);
   r.source = path;
   return r;
-}
-
-std::vector<Eigen::Isometry3d> default_pose_link_frames(const RobotDescription& robot) {
-  std::vector<Eigen::Isometry3d> X_WL(robot.links.size(), Eigen::Isometry3d::Identity());
-  std::map<std::string, std::size_t> index;
-  for (std::size_t i = 0; i < robot.links.size(); ++i) index[robot.links[i].name] = i;
-  // Joints are parent-before-child: one pass. With every coordinate at zero the
-  // joint frame is the child frame for every joint type.
-  for (const Joint& j : robot.joints) {
-    const auto p = index.find(j.parent), c = index.find(j.child);
-    if (p == index.end() || c == index.end()) continue;
-    X_WL[c->second] = X_WL[p->second] * j.X_PJ;
-  }
-  return X_WL;
 }
 
 ModelSummary summarize(const RobotDescription& robot) {

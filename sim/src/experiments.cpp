@@ -46,13 +46,13 @@ ExperimentResult step_response(const Scenario& s, const std::vector<VariantResul
   const double t_step = number_or(e, "step_start_s", 0.5), t_step_end = number_or(e, "step_end_s", 2.0);
   const double t_sine = number_or(e, "sine_start_s", -1), t_sine_end = number_or(e, "sine_end_s", -1);
   ExperimentResult res;
-  viz::Figure step_fig(1200, 700), sine_fig(1200, 800);
-  step_fig.title = "Knee step response";
+  plot::Figure step_fig(1200, 700), sine_fig(1200, 800);
+  step_fig.title = "Step response, " + e.joint;
   auto& ax = step_fig.add_axes();
   ax.x_label = "Time (s)";
   ax.y_label = "Joint angle (rad)";
   ax.x_limits = std::make_pair(t_step - 0.05, std::min(t_step_end, t_step + 0.6));
-  sine_fig.title = "Knee sinusoid tracking";
+  sine_fig.title = "Sinusoid tracking, " + e.joint;
   auto& sx = sine_fig.add_axes();
   sx.x_label = "Time (s)";
   sx.y_label = "Joint angle (rad)";
@@ -60,7 +60,9 @@ ExperimentResult step_response(const Scenario& s, const std::vector<VariantResul
   sxe.x_label = "Time (s)";
   sxe.y_label = "Tracking error (rad)";
   bool ref_drawn = false;
-  for (const auto& r : runs) {
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const auto& r = runs[k];
+    const plot::Color color = plot::palette_color(k);  // one colour per variant in every figure
     const auto& t = r.log.time();
     const auto& rv = signal(r, ref, s.file);
     const auto& y = signal(r, out, s.file);
@@ -71,31 +73,28 @@ ExperimentResult step_response(const Scenario& s, const std::vector<VariantResul
     j["steady_state_error_rad"] = m.steady_state_error;
     j["rms_error_rad"] = t_sine >= 0 ? rms_error(t, rv, y, t_sine, t_sine_end) : rms_error(t, rv, y, t.front(), t.back());
     if (!ref_drawn) {
-      ax.series.push_back({"reference", t, rv, viz::Color{1, 1, 1}, 1.5, true});
-      if (t_sine >= 0) sx.series.push_back({"reference", t, rv, viz::Color{1, 1, 1}, 1.5, true});
+      ax.series.push_back({"reference", t, rv, plot::Color{1, 1, 1}, 1.5, true});
+      if (t_sine >= 0) sx.series.push_back({"reference", t, rv, plot::Color{1, 1, 1}, 1.5, true});
       ref_drawn = true;
     }
-    ax.series.push_back({r.name, t, y});
+    ax.series.push_back({r.name, t, y, color});
     if (t_sine >= 0) {
       std::vector<double> err(t.size());
-      for (std::size_t k = 0; k < t.size(); ++k) err[k] = y[k] - rv[k];
-      sx.series.push_back({r.name, t, y});
-      sxe.series.push_back({r.name, t, err});
+      for (std::size_t i = 0; i < t.size(); ++i) err[i] = y[i] - rv[i];
+      sx.series.push_back({r.name, t, y, color});
+      sxe.series.push_back({r.name, t, err, color});
     }
+    if (t.back() < t_step_end || (t_sine >= 0 && t.back() < t_sine_end))
+      res.warnings.push_back(fmt::format("variant '{}' ends at {} s, before the end of the experiment's windows ({} s): its step and "
+                                         "tracking figures are of the part it ran (inf or NaN where a figure was not reached)",
+                                         r.name, t.back(), std::max(t_step_end, t_sine_end)));
   }
   if (t_sine >= 0) {
     sx.x_limits = sxe.x_limits = std::make_pair(t_sine, t_sine_end);
     sx.x_tick_labels = false;
   }
   // The y range of what is shown (the runs go on to a sinusoid outside the window).
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const auto& series : ax.series)
-    for (std::size_t k = 0; k < series.x.size(); ++k)
-      if (series.x[k] >= ax.x_limits->first && series.x[k] <= ax.x_limits->second && std::isfinite(series.y[k])) {
-        lo = std::min(lo, series.y[k]);
-        hi = std::max(hi, series.y[k]);
-      }
-  if (lo < hi) ax.y_limits = viz::nice_limits(lo, hi, viz::Scale::Linear);
+  ax.y_limits_from_visible = true;
   res.figures.emplace_back("step_response.png", step_fig);
   if (t_sine >= 0) res.figures.emplace_back("sine_tracking.png", sine_fig);
   res.notes.push_back(fmt::format("Step metrics over [{}, {}] s of '{}' following '{}'; RMS error over [{}, {}] s.", t_step, t_step_end, out, ref,
@@ -115,7 +114,7 @@ ExperimentResult force_tracking(const Scenario& s, const std::vector<VariantResu
     const std::string g = r.axes.empty() ? r.name : r.axes.back().second;
     if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
   }
-  viz::Figure fig(1200, std::max(400, 220 * static_cast<int>(groups.size())));
+  plot::Figure fig(1200, std::max(400, 220 * static_cast<int>(groups.size())));
   fig.title = "Force tracking error F - F_d";
   for (const auto& g : groups) {
     auto& a = fig.add_axes();
@@ -144,15 +143,15 @@ ExperimentResult force_tracking(const Scenario& s, const std::vector<VariantResu
   res.figures.emplace_back("force_error.png", fig);
   // The tracking itself for the heaviest finite load and the first controller.
   const VariantResult& first = runs.front();
-  viz::Figure tf(1200, 500);
+  plot::Figure tf(1200, 500);
   tf.title = "Force tracking, " + first.name;
   auto& a = tf.add_axes();
   a.x_label = "Time (s)";
   a.y_label = "Actuator force (N)";
   a.x_limits = std::make_pair(t0, t0 + t_show);
-  a.series.push_back({"F_d", first.log.time(), signal(first, ref, s.file), viz::Color{1, 1, 1}, 1.5, true});
+  a.series.push_back({"F_d", first.log.time(), signal(first, ref, s.file), plot::Color{1, 1, 1}, 1.5, true});
   a.series.push_back({"F (true)", first.log.time(), signal(first, out, s.file)});
-  a.series.push_back({"F (sensed)", first.log.time(), signal(first, e.joint + ".force", s.file), viz::Color{}, 1.0});
+  a.series.push_back({"F (sensed)", first.log.time(), signal(first, e.joint + ".force", s.file), plot::Color{}, 1.0});
   res.figures.emplace_back("force_tracking.png", tf);
   res.notes.push_back(fmt::format("RMS of '{}' - '{}' from t = {} s to the end of each run.", out, ref, t0));
   return res;
@@ -162,7 +161,7 @@ ExperimentResult force_tracking(const Scenario& s, const std::vector<VariantResu
 ExperimentResult thermal(const Scenario& s, const std::vector<VariantResult>& runs) {
   const ExperimentSetup& e = s.experiment;
   ExperimentResult res;
-  viz::Figure fig(1200, 800);
+  plot::Figure fig(1200, 800);
   fig.title = "Winding temperature, " + e.joint;
   auto& a = fig.add_axes();
   a.y_label = "Winding (deg C)";
@@ -203,7 +202,7 @@ ExperimentResult thermal(const Scenario& s, const std::vector<VariantResult>& ru
 ExperimentResult standing(const Scenario& s, const std::vector<VariantResult>& runs) {
   constexpr double kFallDrop = 0.2, kFallTilt = 0.5;
   ExperimentResult res;
-  viz::Figure fig(1200, 900);
+  plot::Figure fig(1200, 900);
   fig.title = "Standing: torso tilt, height and lateral position";
   auto& tilt = fig.add_axes();
   tilt.y_label = "Tilt (rad)";
@@ -288,7 +287,7 @@ ExperimentResult evaluate_experiment(const Scenario& s, const std::vector<Varian
   else if (type == "standing") res = standing(s, runs);
   // The scenario's own plots: "signal" (every variant) or "variant:signal".
   for (const auto& p : s.plots) {
-    viz::Figure fig(1200, 600);
+    plot::Figure fig(1200, 600);
     fig.title = p.title;
     auto& a = fig.add_axes();
     a.x_label = "Time (s)";

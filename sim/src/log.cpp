@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "dmbd/viz/plot.hpp"
+#include "dmbd/base/file.hpp"
 
 namespace dmbd::sim {
 
@@ -59,7 +59,7 @@ std::string Log::to_csv() const {
 
 void Log::write_csv(const std::string& path) const {
   const std::string s = to_csv();
-  viz::write_file_atomic(path, std::vector<unsigned char>(s.begin(), s.end()));
+  write_file_atomic(path, s);
 }
 
 }  // namespace dmbd::sim

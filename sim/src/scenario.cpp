@@ -1,6 +1,8 @@
 // Scenario files: parsing (with file:line:column in every message) and running a variant.
 #include "dmbd/sim/scenario.hpp"
 
+#include "variant_controllers.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -27,6 +29,12 @@ namespace {
 namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------- YAML reading
+// Limits of what a scenario may ask for (each checked at its line).
+constexpr std::size_t kMaxVariants = 1000;
+constexpr long long kMaxFramePixels = 16384;
+constexpr long long kMaxFrames = 1000000;
+constexpr long long kMaxExactInteger = 1LL << 53;  // doubles hold every integer up to here
+
 struct Reader {
   std::string file;
   std::string dir;
@@ -44,10 +52,24 @@ struct Reader {
   }
   [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const { throw InputError(at(n) + ": " + what); }
 
+  // A map key: a plain name (yaml-cpp would throw on a list, a map or a null as key).
+  std::string key(const YAML::Node& k, const std::string& what) const {
+    if (!k.IsScalar()) fail(k, what + ": a key must be a name, not a list, a map or empty");
+    return k.Scalar();
+  }
+  // The list map[key], to iterate (yaml-cpp iterates a map as pairs whose nodes are
+  // unusable). An empty value has no place of its own: the error names its key's.
+  YAML::Node list(const YAML::Node& map, const char* key, const std::string& what) const {
+    const YAML::Node n = map[key];
+    if (n.IsSequence()) return n;
+    for (const auto& kv : map)
+      if (n.IsNull() && kv.first.IsScalar() && kv.first.Scalar() == key) fail(kv.first, what + ": expected a list");
+    fail(n, what + ": expected a list");
+  }
   void keys(const YAML::Node& n, const std::string& what, std::initializer_list<const char*> allowed) const {
     if (!n.IsMap()) fail(n, what + ": expected a map");
     for (const auto& kv : n) {
-      const std::string k = kv.first.as<std::string>();
+      const std::string k = key(kv.first, what);
       bool ok = false;
       std::string list;
       for (const char* a : allowed) {
@@ -66,6 +88,13 @@ struct Reader {
     } catch (const YAML::Exception&) {
       fail(n, what + ": expected a number, got '" + n.Scalar() + "'");
     }
+  }
+  // A whole number in [lo, hi] (checked before it is converted).
+  long long integer(const YAML::Node& n, const std::string& what, long long lo, long long hi) const {
+    const double v = number(n, what);
+    if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
+      fail(n, fmt::format("{}: expected a whole number from {} to {}", what, lo, hi));
+    return static_cast<long long>(v);
   }
   double positive(const YAML::Node& n, const std::string& what) const {
     const double v = number(n, what);
@@ -108,7 +137,8 @@ struct Reader {
     if (!n.IsMap()) fail(n, what + ": expected a map of joint: value");
     std::vector<std::pair<std::string, double>> r;
     for (const auto& kv : n) {
-      r.emplace_back(kv.first.as<std::string>(), number(kv.second, what + "." + kv.first.as<std::string>()));
+      const std::string k = key(kv.first, what);
+      r.emplace_back(k, number(kv.second, what + "." + k));
       if (where) (*where)[prefix + ":" + r.back().first] = at(kv.first);
     }
     return r;
@@ -116,7 +146,10 @@ struct Reader {
   std::string path(const YAML::Node& n, const std::string& what) const {
     const std::string p = text(n, what);
     const fs::path full = fs::path(p).is_absolute() ? fs::path(p) : fs::path(dir) / p;
-    if (!fs::exists(full)) fail(n, what + ": file '" + full.string() + "' does not exist");
+    std::error_code ec;  // the throwing fs::exists escaped on a name too long for the system
+    const bool exists = fs::exists(full, ec);
+    if (ec) fail(n, what + ": cannot use the file '" + full.string() + "': " + ec.message());
+    if (!exists) fail(n, what + ": file '" + full.string() + "' does not exist");
     return full.lexically_normal().string();
   }
 
@@ -206,7 +239,7 @@ struct Reader {
     if (n["lock"]) r.lock = angles(n["lock"], "robot.lock", &r.where, "lock");
     if (n["payloads"]) {
       r.payloads.clear();
-      for (const auto& e : n["payloads"]) {
+      for (const auto& e : list(n, "payloads", "robot.payloads")) {
         keys(e, "robot.payloads", {"link", "mass_kg", "com", "inertia_kgm2"});
         Payload p;
         p.link = text(required(e, "link", "robot.payloads"), "payload.link");
@@ -219,7 +252,7 @@ struct Reader {
     }
     if (n["loads"]) {
       r.loads.clear();
-      for (const auto& e : n["loads"]) {
+      for (const auto& e : list(n, "loads", "robot.loads")) {
         keys(e, "robot.loads", {"joint", "reflected_mass_kg"});
         r.loads.push_back({text(required(e, "joint", "robot.loads"), "load.joint"),
                            positive(required(e, "reflected_mass_kg", "robot.loads"), "load.reflected_mass_kg")});
@@ -247,13 +280,16 @@ struct Reader {
       else if (s == "fixed") c.scalar = Scalar::Fixed;
       else fail(n["scalar"], "controller.scalar: expected double, float or fixed, got '" + s + "'");
     }
-    if (n["word_bits"]) c.word_bits = static_cast<int>(number(n["word_bits"], "controller.word_bits"));
+    if (n["word_bits"]) {
+      c.word_bits = static_cast<int>(integer(n["word_bits"], "controller.word_bits", 16, 32));
+      if (c.word_bits != 16 && c.word_bits != 32) fail(n["word_bits"], "controller.word_bits: expected 16 or 32");
+    }
     for (const char* side : {"inputs", "outputs"}) {
       if (!n[side]) fail(n, "controller '" + c.name + "': expected '" + side + "' (program port: bus signal)");
       if (!n[side].IsMap()) fail(n[side], "controller '" + c.name + "'." + side + ": expected a map of port: signal");
       const bool inputs = std::string(side) == "inputs";
       for (const auto& kv : n[side]) {
-        (inputs ? c.inputs : c.outputs).emplace_back(kv.first.as<std::string>(), text(kv.second, side));
+        (inputs ? c.inputs : c.outputs).emplace_back(key(kv.first, "controller '" + c.name + "'." + side), text(kv.second, side));
         (inputs ? c.input_where : c.output_where).push_back(at(kv.second));
       }
     }
@@ -285,12 +321,14 @@ struct Reader {
     if (n["references"]) {
       v.references.clear();
       if (!n["references"].IsMap()) fail(n["references"], "references: expected a map of name: source");
-      for (const auto& kv : n["references"])
-        v.references.push_back({kv.first.as<std::string>(), source(kv.second, "reference '" + kv.first.as<std::string>() + "'"), at(kv.first)});
+      for (const auto& kv : n["references"]) {
+        const std::string name = key(kv.first, "references");
+        v.references.push_back({name, source(kv.second, "reference '" + name + "'"), at(kv.first)});
+      }
     }
     if (n["forces"]) {
       v.forces.clear();
-      for (const auto& e : n["forces"]) {
+      for (const auto& e : list(n, "forces", "forces")) {
         keys(e, "force", {"link", "point", "direction", "source"});
         ForceSpec f;
         f.link = text(required(e, "link", "force"), "force.link");
@@ -308,7 +346,7 @@ struct Reader {
       const YAML::Node s = n["sensors"];
       keys(s, "sensors", {"noise", "seed", "force_noise_N"});
       if (s["noise"]) v.sensor_noise = boolean(s["noise"], "sensors.noise");
-      if (s["seed"]) v.seed = static_cast<uint64_t>(number(s["seed"], "sensors.seed"));
+      if (s["seed"]) v.seed = static_cast<uint64_t>(integer(s["seed"], "sensors.seed", 0, kMaxExactInteger));
       if (s["force_noise_N"]) v.force_noise_N = number(s["force_noise_N"], "sensors.force_noise_N");
     }
     if (n["integration"]) integration(n["integration"], v.integration);
@@ -331,7 +369,10 @@ const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "contr
 }  // namespace
 
 Scenario load_scenario(const std::string& path) {
-  if (!fs::exists(path)) throw InputError(path + ": the scenario file does not exist");
+  std::error_code ec;
+  const bool exists = fs::exists(path, ec);
+  if (ec) throw InputError(path + ": cannot read the scenario file: " + ec.message());
+  if (!exists) throw InputError(path + ": the scenario file does not exist");
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -368,8 +409,11 @@ Scenario load_scenario(const std::string& path) {
     s.variants.push_back(base);
     s.variants.back().name.clear();
     for (const auto& axis : root["matrix"]) {
-      const std::string an = axis.first.as<std::string>();
+      const std::string an = rd.key(axis.first, "matrix");
       if (!axis.second.IsSequence() || axis.second.size() == 0) rd.fail(axis.second, "matrix." + an + ": expected a list of values");
+      if (s.variants.size() * axis.second.size() > kMaxVariants)
+        rd.fail(axis.first, fmt::format("matrix.{}: {} variants (more than {}): split the scenario", an,
+                                         s.variants.size() * axis.second.size(), kMaxVariants));
       std::vector<VariantSetup> next;
       for (const VariantSetup& prev : s.variants)
         for (const auto& n : axis.second) {
@@ -399,9 +443,9 @@ Scenario load_scenario(const std::string& path) {
       rd.keys(f, "frames", {"enabled", "fps", "width", "height", "max_frames", "camera", "variant"});
       if (f["enabled"]) s.frames.enabled = rd.boolean(f["enabled"], "frames.enabled");
       if (f["fps"]) s.frames.fps = rd.positive(f["fps"], "frames.fps");
-      if (f["width"]) s.frames.width_px = static_cast<int>(rd.positive(f["width"], "frames.width"));
-      if (f["height"]) s.frames.height_px = static_cast<int>(rd.positive(f["height"], "frames.height"));
-      if (f["max_frames"]) s.frames.max_frames = static_cast<int>(rd.positive(f["max_frames"], "frames.max_frames"));
+      if (f["width"]) s.frames.width_px = static_cast<int>(rd.integer(f["width"], "frames.width", 1, kMaxFramePixels));
+      if (f["height"]) s.frames.height_px = static_cast<int>(rd.integer(f["height"], "frames.height", 1, kMaxFramePixels));
+      if (f["max_frames"]) s.frames.max_frames = static_cast<int>(rd.integer(f["max_frames"], "frames.max_frames", 1, kMaxFrames));
       if (f["camera"]) {
         rd.keys(f["camera"], "frames.camera", {"position", "look_at"});
         if (f["camera"]["position"]) s.frames.camera_position = rd.vec3(f["camera"]["position"], "frames.camera.position");
@@ -414,8 +458,7 @@ Scenario load_scenario(const std::string& path) {
     }
   }
   if (root["plots"]) {
-    if (!root["plots"].IsSequence()) rd.fail(root["plots"], "plots: expected a list");
-    for (const auto& p : root["plots"]) {
+    for (const auto& p : rd.list(root, "plots", "plots")) {
       rd.keys(p, "plot", {"title", "y_label", "file", "signals"});
       PlotSetup ps;
       if (p["title"]) ps.title = rd.text(p["title"], "plot.title");
@@ -446,7 +489,7 @@ Scenario load_scenario(const std::string& path) {
     };
     const auto& allowed = kKeys.at(s.experiment.type);
     for (const auto& kv : e) {
-      const std::string k = kv.first.as<std::string>();
+      const std::string k = rd.key(kv.first, "experiment");
       if (k == "type") continue;
       if (k == "joint") {
         s.experiment.joint = rd.text(kv.second, "experiment.joint");
@@ -473,46 +516,9 @@ model::RobotDescription load_robot(const RobotSetup& r) {
   return model::load_urdf(path);
 }
 
-// Inertia of the links that move with a joint's child about the joint axis (kg m^2),
-// in the description's zero pose (rotation about the axis does not change it; the
-// joints below are taken at their current (frozen) positions).
-double subtree_axis_inertia(const model::RobotDescription& robot, int joint) {
-  const auto X = model::default_pose_link_frames(robot);
-  const model::Joint& J = robot.joints[static_cast<std::size_t>(joint)];
-  const int child = robot.link_index(J.child);
-  const Eigen::Isometry3d& X_WC = X[static_cast<std::size_t>(child)];
-  const Eigen::Vector3d a = (X_WC.linear() * J.axis).normalized(), o = X_WC.translation();
-  std::vector<int> sub{child};
-  for (std::size_t k = 0; k < sub.size(); ++k)
-    for (const auto& j : robot.joints)
-      if (j.parent == robot.links[static_cast<std::size_t>(sub[k])].name) sub.push_back(robot.link_index(j.child));
-  double I = 0;
-  for (int l : sub) {
-    const model::Link& L = robot.links[static_cast<std::size_t>(l)];
-    const Eigen::Matrix3d R = X[static_cast<std::size_t>(l)].linear();
-    const Eigen::Vector3d c = X[static_cast<std::size_t>(l)] * L.com_m - o;
-    const Eigen::Vector3d d = c - a * a.dot(c);
-    I += a.dot(R * L.inertia_kgm2 * R.transpose() * a) + L.mass_kg * d.squaredNorm();
-  }
-  return I;
-}
-
-void add_payload(model::RobotDescription& robot, const Payload& p) {
-  const int l = robot.link_index(p.link);
-  if (l < 0) throw InputError("payload: the robot has no link '" + p.link + "'");
-  model::Link& L = robot.links[static_cast<std::size_t>(l)];
-  const double m = L.mass_kg + p.mass_kg;
-  const Eigen::Vector3d c = (L.mass_kg * L.com_m + p.mass_kg * p.com_L) / m;
-  auto shift = [](double mass, const Eigen::Vector3d& d) { return mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()); };
-  L.inertia_kgm2 = L.inertia_kgm2 + shift(L.mass_kg, L.com_m - c) + Eigen::Matrix3d(p.inertia_kgm2.asDiagonal()) + shift(p.mass_kg, p.com_L - c);
-  L.com_m = c;
-  L.mass_kg = m;
-}
-
 }  // namespace
 
-VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options, double frame_rate_hz,
-                          const std::function<void(double, const model::Plant&)>& on_frame) {
+VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
   const RobotSetup& r = v.robot;
   // Where an entry of robot: was written (its file:line:col), else the scenario file.
   auto where = [&](const std::string& key) {
@@ -542,12 +548,13 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   }
   try {
     robot = model::freeze_joints(robot, freeze);
-  } catch (const model::ModelError& e) {
-    throw InputError(s.file + ": robot.freeze: " + e.what());
+  } catch (model::ModelError& e) {
+    e.prepend(s.file + ": robot.freeze: ");
+    throw;
   }
   for (const auto& p : r.payloads) {
     if (robot.link_index(p.link) < 0) throw InputError(where("payloads:" + p.link) + ": robot.payloads: the robot has no link '" + p.link + "'");
-    add_payload(robot, p);
+    model::add_payload(robot, p.link, p.mass_kg, p.com_L, p.inertia_kgm2);
   }
 
   // Actuators.
@@ -573,16 +580,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     if (!std::any_of(po.actuators.begin(), po.actuators.end(), [&](const auto& a) { return a.joint == name; }))
       throw InputError(where("actuators:" + name) + ": robot.actuators: '" + name + "' is not a moving joint with an actuator");
 
-  VariantResult res;
-  res.name = v.name;
-  res.axes = v.axes;
-  auto initial_of = [&](const std::string& joint) {
-    for (const auto& [n, q] : r.initial)
-      if (n == joint) return q;
-    for (const auto& [n, q] : r.lock)
-      if (n == joint) return q;
-    return 0.0;
-  };
+  auto initial_of = [&](const std::string& joint) { return initial_angle(r, joint); };
   // Reflected loads: a disc on the joint axis (added to the child link at the joint origin).
   for (const auto& load : r.loads) {
     const int j = robot.joint_index(load.joint);
@@ -590,20 +588,39 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     if (j < 0 || act == po.actuators.end())
       throw InputError(where("loads:" + load.joint) + ": robot.loads: '" + load.joint + "' is not an actuated moving joint");
     const double n_l = act->linkage.N_l(initial_of(load.joint));
-    const double need = load.reflected_mass_kg / (n_l * n_l) - subtree_axis_inertia(robot, j);
+    const double need = load.reflected_mass_kg / (n_l * n_l) - model::subtree_axis_inertia(robot, j);
     if (need < 0)
       throw InputError(fmt::format("{}: robot.loads: {} kg reflected is less than the bare link's {:.1f} kg", where("loads:" + load.joint), load.reflected_mass_kg,
-                                   subtree_axis_inertia(robot, j) * n_l * n_l));
+                                   model::subtree_axis_inertia(robot, j) * n_l * n_l));
     const model::Joint& J = robot.joints[static_cast<std::size_t>(j)];
-    Payload disc;
-    disc.link = J.child;
-    disc.mass_kg = 10.0;
     const Eigen::Vector3d ax = J.axis.cwiseAbs();
-    disc.inertia_kgm2 = need * ax + 0.5 * need * (Eigen::Vector3d::Ones() - ax);  // thin disc about its axis
-    add_payload(robot, disc);
+    // A thin 10 kg disc about the axis, centred on it (no gravity torque).
+    model::add_payload(robot, J.child, 10.0, Eigen::Vector3d::Zero(), need * ax + 0.5 * need * (Eigen::Vector3d::Ones() - ax));
   }
+  return {std::move(robot), po};
+}
 
-  model::Plant plant(robot, po);
+double initial_angle(const RobotSetup& r, const std::string& joint) {
+  for (const auto& [n, q] : r.initial)
+    if (n == joint) return q;
+  for (const auto& [n, q] : r.lock)
+    if (n == joint) return q;
+  return 0.0;
+}
+
+VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options) {
+  const RobotSetup& r = v.robot;
+  auto where = [&](const std::string& key) {
+    const auto it = r.where.find(key);
+    return it == r.where.end() ? s.file : it->second;
+  };
+  const VariantPlant vp = variant_plant(s, v);
+  const model::RobotDescription& robot = vp.robot;
+  auto initial_of = [&](const std::string& joint) { return initial_angle(r, joint); };
+  VariantResult res;
+  res.name = v.name;
+  res.axes = v.axes;
+  model::Plant plant(robot, vp.options);
   plant.reset();
   Eigen::VectorXd q0 = plant.joint_positions();
   for (const auto& [n, q] : r.initial) {
@@ -626,7 +643,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     const int j = robot.joint_index(a.joint);
     const double n_l = a.linkage.N_l(initial_of(a.joint));
     res.truth = {{"J_m", a.J_m_kgm2}, {"B_m", a.B_m_Nms}, {"M_r", a.M_r_kg}, {"B_r", a.B_s_Ns_per_m}, {"K_r", a.K_s_N_per_m},
-                 {"B_l", a.B_l_Ns_per_m}, {"M_l", subtree_axis_inertia(robot, j) * n_l * n_l}, {"k_tau", a.k_tau_Nm_per_A},
+                 {"B_l", a.B_l_Ns_per_m}, {"M_l", model::subtree_axis_inertia(robot, j) * n_l * n_l}, {"k_tau", a.k_tau_Nm_per_A},
                  {"N_m", a.N_m_rad_per_m}, {"N_l", n_l}, {"q0", initial_of(a.joint)}, {"efficiency", a.efficiency}};
   }
 
@@ -635,71 +652,26 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   spec.forces = v.forces;
   spec.duration_s = options.duration_s.value_or(v.duration_s);
   spec.log_rate_hz = v.log_rate_hz;
-  spec.frame_rate_hz = on_frame ? frame_rate_hz : 0;
   spec.sensor_noise = v.sensor_noise;
   spec.seed = v.seed;
   spec.force_noise_N = v.force_noise_N;
   spec.cooling = v.cooling;
   for (const auto& c : v.controllers) {
-    blocks::ParameterMap overrides;
-    for (const auto& [k, val] : c.parameters) overrides[k] = val;
-    const auto d = diagrams::Diagram::load(c.diagram, overrides);
-    codegen::LowerOptions lo;
-    lo.rate_hz = c.rate_hz;
-    if (d->discretization()) lo.method = *d->discretization();
-    auto program = std::make_shared<codegen::LoopProgram>(codegen::lower(*d, lo));
-    ControllerSpec cs;
-    cs.name = c.name;
-    cs.program = program;
-    cs.scalar = c.scalar;
-    cs.rate_hz = c.rate_hz;
-    cs.delay_s = c.delay_s;
-    if (c.scalar == Scalar::Fixed) {
-      std::vector<std::pair<double, double>> ranges;
-      for (const auto& in : d->inputs())
-        for (int k = 0; k < in.size; ++k) ranges.push_back(in.range.value_or(std::make_pair(-1.0, 1.0)));
-      cs.fixed = std::make_shared<codegen::FixedProgram>(codegen::make_fixed(*program, ranges, c.word_bits));
-    }
-    const std::string cwhere = c.where.empty() ? s.file : c.where;
-    cs.where = cwhere;
-    // Program ports in the diagram's order -> bus signals (and where each was bound).
-    auto bind = [&](const std::vector<diagrams::SignalSpec>& ports, const std::vector<std::pair<std::string, std::string>>& given,
-                    const std::vector<std::string>& given_where, const char* side, std::vector<std::string>* port_where) {
-      std::vector<std::string> out;
-      const auto where_of = [&](std::size_t k) { return k < given_where.size() && !given_where[k].empty() ? given_where[k] : cwhere; };
-      for (const auto& port : ports) {
-        const auto it = std::find_if(given.begin(), given.end(), [&](const auto& g) { return g.first == port.name; });
-        if (it == given.end()) {
-          if (std::string(side) == "outputs") {
-            out.emplace_back();
-            continue;
-          }
-          throw InputError(cwhere + ": controller '" + c.name + "': input '" + port.name + "' of " + c.diagram + " is not bound");
-        }
-        out.push_back(it->second);
-        if (port_where) port_where->push_back(where_of(static_cast<std::size_t>(it - given.begin())));
-      }
-      for (std::size_t k = 0; k < given.size(); ++k)
-        if (std::none_of(ports.begin(), ports.end(), [&](const auto& p) { return p.name == given[k].first; }))
-          throw InputError(where_of(k) + ": controller '" + c.name + "': " + c.diagram + " has no " +
-                           std::string(side).substr(0, std::string(side).size() - 1) + " '" + given[k].first + "'");
-      return out;
-    };
-    cs.inputs = bind(d->inputs(), c.inputs, c.input_where, "inputs", &cs.input_where);
-    cs.outputs = bind(d->outputs(), c.outputs, c.output_where, "outputs", nullptr);
-    spec.controllers.push_back(cs);
+    VariantController vc = variant_controller(s, c, spec.duration_s);
+    spec.controllers.push_back(std::move(vc.spec));
+    res.fixed_point.insert(res.fixed_point.end(), vc.fixed_point.begin(), vc.fixed_point.end());
   }
 
   Simulation sim(plant, spec);
   const auto t0 = std::chrono::steady_clock::now();
   const long long steps0 = plant.integrator_steps();
-  res.log = sim.run(on_frame ? std::function<void(double)>([&](double t) { on_frame(t, plant); }) : std::function<void(double)>(),
-                    options.on_progress);
+  res.log = sim.run(options.on_progress);
   res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   res.real_time_factor = spec.duration_s / std::max(res.wall_s, 1e-9);
   res.integrator_steps = plant.integrator_steps() - steps0;
   res.controller_steps = sim.controller_steps();
   res.clamp_events = sim.controller_clamp_events();
+  fixed_point_warnings(res);
   return res;
 }
 

@@ -6,12 +6,10 @@
 #include <map>
 #include <optional>
 #include <random>
-#include <variant>
 
 #include <fmt/format.h>
 
 #include "dmbd/blocks/error.hpp"
-#include "dmbd/codegen/interpreter.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/sensors.hpp"
 
@@ -35,21 +33,6 @@ Ns period_ns(double rate_hz, const std::string& what) {
   if (r <= 0 || std::abs(p - static_cast<double>(r)) > std::max(1e-6, 1e-12 * p))
     throw InputError(what + ": a rate of " + fmt::format("{}", rate_hz) + " Hz is not a whole number of nanoseconds per period");
   return r;
-}
-
-// Joint angle q whose linkage length change x(q) - x(0) equals dx, by Newton's method
-// from a guess (the previous reading): the firmware's lookup from actuator travel to
-// joint angle, done exactly.
-double invert_linkage(const model::LinkageGeometry& g, double dx, double guess) {
-  const double target = g.length_m(0) + dx;
-  double q = guess;
-  for (int it = 0; it < 30; ++it) {
-    const double r = g.moment_arm_m(q);
-    const double step = (g.length_m(q) - target) / r;
-    q -= step;
-    if (std::abs(step) < 1e-13) break;
-  }
-  return q;
 }
 
 }  // namespace
@@ -79,7 +62,8 @@ struct Simulation::Impl {
   // Per joint and per actuator signal indices.
   int nj = 0, na = 0;
   std::vector<int> sig_q, sig_qd, sig_torque;
-  int sig_base = -1;  // floating base: x, y, z, roll, pitch, yaw, tilt from here on
+  int sig_base = -1;     // floating base: x, y, z, roll, pitch, yaw, tilt from here on
+  int sig_contact = -1;  // contact sphere k's force: fx, fy, fz at sig_contact + 3 k
   struct ActuatorIo {
     int joint = -1;
     int current = -1, q_enc = -1, q_pot = -1, force = -1, motor = -1, spring = -1;
@@ -97,10 +81,8 @@ struct Simulation::Impl {
   // Controllers.
   struct Ctrl {
     ControllerSpec spec;
-    std::variant<codegen::Interpreter<double>, codegen::Interpreter<float>, codegen::FixedInterpreter> run;
-    std::vector<int> in, out;
+    std::vector<int> in, out;  // bus signals
     std::vector<double> u, y;
-    std::vector<float> uf, yf;
     Ns period = 0, delay = 0, next_tick = 0, publish_at = kNever;
     long long steps = 0;
   };
@@ -138,7 +120,13 @@ struct Simulation::Impl {
       if (spec.sensor_noise) io.pot.emplace(a.potentiometer, spec.seed * 1000003ULL + static_cast<uint64_t>(k));
       acts.push_back(std::move(io));
     }
-    // Logged-only signals after the bus ones.
+    // Logged-only signals after the bus ones: per actuator, and the force on each contact
+    // sphere (so that a report can draw them after the run).
+    if (!plant.contacts().empty()) {
+      sig_contact = static_cast<int>(names.size());
+      for (std::size_t k = 0; k < plant.contacts().size(); ++k)
+        for (const char* axis : {"fx", "fy", "fz"}) add(fmt::format("contact.{}.{}", k, axis), "N");
+    }
     for (auto& io : acts) {
       const std::string& J = plant.actuator(static_cast<int>(&io - acts.data())).joint;
       io.force_true = add(J + ".force_true", "N");
@@ -167,57 +155,49 @@ struct Simulation::Impl {
       force_link.push_back(l);
     }
     // Controllers: outputs first (they define bus signals), then check inputs.
-    for (const auto& c : spec.controllers) {
-      const codegen::LoopProgram& p = *c.program;
-      if (c.outputs.size() != p.outputs.size())
-        throw InputError(at(c.where) + fmt::format("controller '{}': {} outputs bound for {} program outputs", c.name, c.outputs.size(), p.outputs.size()));
-      if (c.inputs.size() != p.inputs.size())
-        throw InputError(at(c.where) + fmt::format("controller '{}': {} inputs bound for {} program inputs", c.name, c.inputs.size(), p.inputs.size()));
-      for (std::size_t k = 0; k < c.outputs.size(); ++k) {
-        const std::string& unit = p.slots[static_cast<std::size_t>(p.outputs[k])].unit;
-        add(c.outputs[k].empty() ? c.name + "." + p.slots[static_cast<std::size_t>(p.outputs[k])].name : c.outputs[k], unit);
-      }
-    }
+    for (const auto& c : spec.controllers) declare_outputs(c);
     for (const auto& c : spec.controllers)
       for (const auto& o : c.outputs)
         for (const auto& r : spec.references)
           if (o == r.name) throw InputError(at(r.where) + "controller '" + c.name + "' and a reference both drive '" + o + "'");
-    for (const auto& c : spec.controllers) {
-      const codegen::LoopProgram& p = *c.program;
-      auto make = [&]() -> decltype(Ctrl::run) {
-        switch (c.scalar) {
-          case Scalar::Float: return codegen::Interpreter<float>(p);
-          case Scalar::Fixed:
-            if (!c.fixed) throw InputError(at(c.where) + "controller '" + c.name + "': fixed point without a fixed-point program");
-            return codegen::FixedInterpreter(p, *c.fixed);
-          default: return codegen::Interpreter<double>(p);
-        }
-      };
-      Ctrl k{c, make(), {}, {}, std::vector<double>(p.inputs.size()), std::vector<double>(p.outputs.size()),
-             std::vector<float>(p.inputs.size()), std::vector<float>(p.outputs.size()),
-             period_ns(c.rate_hz, at(c.where) + "controller '" + c.name + "'"), 0, 0, kNever, 0};
-      if (std::abs(c.rate_hz - p.rate_hz) > 1e-9 * c.rate_hz)
-        throw InputError(at(c.where) + fmt::format("controller '{}': runs at {} Hz but its program was lowered at {} Hz", c.name, c.rate_hz, p.rate_hz));
-      k.delay = static_cast<Ns>(std::llround(c.delay_s * 1e9));
-      if (k.delay < 0 || k.delay > k.period)
-        throw InputError(at(c.where) + fmt::format("controller '{}': delay {} s must be between 0 and one period ({} s)", c.name, c.delay_s, 1.0 / c.rate_hz));
-      for (std::size_t i = 0; i < c.inputs.size(); ++i) {
-        const int s = find(c.inputs[i]);
-        if (s < 0)
-          throw InputError(at(i < c.input_where.size() ? c.input_where[i] : c.where) + "controller '" + c.name + "': input '" + p.slots[static_cast<std::size_t>(p.inputs[i])].name +
-                           "' is bound to '" + c.inputs[i] + "', which no sensor, reference or controller provides");
-        k.in.push_back(s);
-      }
-      for (std::size_t i = 0; i < c.outputs.size(); ++i)
-        k.out.push_back(find(c.outputs[i].empty() ? c.name + "." + p.slots[static_cast<std::size_t>(p.outputs[i])].name : c.outputs[i]));
-      ctrls.push_back(std::move(k));
-    }
+    for (const auto& c : spec.controllers) ctrls.push_back(bind(c));
     currents = Eigen::VectorXd::Zero(na);
     torques = Eigen::VectorXd::Zero(nj);
     for (auto& io : acts) {
       io.thermal_on.reset();
       io.thermal_off.reset();
     }
+  }
+
+  std::string output_signal(const ControllerSpec& c, std::size_t k) const {
+    return c.outputs[k].empty() ? c.name + "." + c.controller->output_name(static_cast<int>(k)) : c.outputs[k];
+  }
+  void declare_outputs(const ControllerSpec& c) {
+    if (!c.controller) throw InputError(at(c.where) + "controller '" + c.name + "': no controller");
+    const Controller& p = *c.controller;
+    if (static_cast<int>(c.outputs.size()) != p.num_outputs())
+      throw InputError(at(c.where) + fmt::format("controller '{}': {} outputs bound for {} controller outputs", c.name, c.outputs.size(), p.num_outputs()));
+    if (static_cast<int>(c.inputs.size()) != p.num_inputs())
+      throw InputError(at(c.where) + fmt::format("controller '{}': {} inputs bound for {} controller inputs", c.name, c.inputs.size(), p.num_inputs()));
+    for (std::size_t k = 0; k < c.outputs.size(); ++k) add(output_signal(c, k), p.output_unit(static_cast<int>(k)));
+  }
+  // The controller's ports on the bus, its period and delay on the event grid.
+  Ctrl bind(const ControllerSpec& c) {
+    const Controller& p = *c.controller;
+    Ctrl k{c, {}, {}, std::vector<double>(c.inputs.size()), std::vector<double>(c.outputs.size()),
+           period_ns(p.rate_hz(), at(c.where) + "controller '" + c.name + "'"), 0, 0, kNever, 0};
+    k.delay = static_cast<Ns>(std::llround(c.delay_s * 1e9));
+    if (k.delay < 0 || k.delay > k.period)
+      throw InputError(at(c.where) + fmt::format("controller '{}': delay {} s must be between 0 and one period ({} s)", c.name, c.delay_s, 1.0 / p.rate_hz()));
+    for (std::size_t i = 0; i < c.inputs.size(); ++i) {
+      const int sig = find(c.inputs[i]);
+      if (sig < 0)
+        throw InputError(at(i < c.input_where.size() ? c.input_where[i] : c.where) + "controller '" + c.name + "': input '" +
+                         p.input_name(static_cast<int>(i)) + "' is bound to '" + c.inputs[i] + "', which no sensor, reference or controller provides");
+      k.in.push_back(sig);
+    }
+    for (std::size_t i = 0; i < c.outputs.size(); ++i) k.out.push_back(find(output_signal(c, i)));
+    return k;
   }
 
   double t_of(Ns t) const { return static_cast<double>(t) * 1e-9; }
@@ -263,7 +243,7 @@ struct Simulation::Impl {
       bus[static_cast<std::size_t>(io.force_true)] = f[k];
       const double qj = io.joint >= 0 ? q[io.joint] : 0.0;
       if (first) io.q_enc_last = qj;  // Newton's first guess only (the firmware starts from its last reading)
-      io.q_enc_last = invert_linkage(a.linkage, th / a.N_m_rad_per_m - x, io.q_enc_last);
+      io.q_enc_last = a.linkage.angle_for_length_change(th / a.N_m_rad_per_m - x, io.q_enc_last);
       bus[static_cast<std::size_t>(io.q_enc)] = io.q_enc_last;
       if (io.pot) {
         if (first) io.pot->reset(qj);
@@ -280,20 +260,7 @@ struct Simulation::Impl {
   }
   void step(Ctrl& c) {
     for (std::size_t k = 0; k < c.in.size(); ++k) c.u[k] = bus[static_cast<std::size_t>(c.in[k])];
-    std::visit(
-        [&](auto& r) {
-          using R = std::decay_t<decltype(r)>;
-          if constexpr (std::is_same_v<R, codegen::Interpreter<double>>) {
-            r.step(c.u.data(), c.y.data());
-          } else if constexpr (std::is_same_v<R, codegen::Interpreter<float>>) {
-            for (std::size_t k = 0; k < c.u.size(); ++k) c.uf[k] = static_cast<float>(c.u[k]);
-            r.step(c.uf.data(), c.yf.data());
-            for (std::size_t k = 0; k < c.y.size(); ++k) c.y[k] = static_cast<double>(c.yf[k]);
-          } else {
-            r.step_real(c.u.data(), c.y.data());
-          }
-        },
-        c.run);
+    c.spec.controller->step(c.u.data(), c.y.data());
     ++c.steps;
   }
   // Applies the command signals to the plant (held until the next change).
@@ -345,6 +312,11 @@ struct Simulation::Impl {
     }
   }
   void fill_logged() {
+    if (sig_contact >= 0) {
+      const std::vector<model::ContactReading> c = plant.contacts();
+      for (std::size_t k = 0; k < c.size(); ++k)
+        for (int i = 0; i < 3; ++i) bus[static_cast<std::size_t>(sig_contact) + 3 * k + static_cast<std::size_t>(i)] = c[k].force_W[i];
+    }
     if (na == 0) return;
     const Eigen::VectorXd i = plant.applied_currents(), f = plant.actuator_forces();
     for (int k = 0; k < na; ++k) {
@@ -382,31 +354,36 @@ std::vector<long long> Simulation::controller_steps() const {
 }
 std::vector<unsigned long long> Simulation::controller_clamp_events() const {
   std::vector<unsigned long long> r;
-  for (const auto& c : impl_->ctrls)
-    r.push_back(std::visit([](const auto& x) { return x.clamp_events(); }, c.run));
+  for (const auto& c : impl_->ctrls) r.push_back(c.spec.controller->clamp_events());
   return r;
 }
 
-Log Simulation::run(const std::function<void(double)>& on_frame, const std::function<void(double)>& on_progress) {
+Log Simulation::run(const std::function<void(double)>& on_progress) {
   Impl& m = *impl_;
+  if (!(m.spec.duration_s < 1e9)) throw InputError(fmt::format("duration {} s is out of range (the event grid counts nanoseconds: below 1e9 s)", m.spec.duration_s));
   const Ns end = static_cast<Ns>(std::llround(m.spec.duration_s * 1e9));
   if (end <= 0) throw InputError(fmt::format("duration {} s is not positive", m.spec.duration_s));
   const Ns log_period = period_ns(m.spec.log_rate_hz, "log");
-  const Ns frame_period = m.spec.frame_rate_hz > 0 ? period_ns(m.spec.frame_rate_hz, "frames") : kNever;
   const Ns t0 = static_cast<Ns>(std::llround(m.plant.time() * 1e9));
 
+  // The log is kept in memory: refuse one that cannot fit rather than fail midway.
+  const double values = (static_cast<double>(end / log_period) + 2) * static_cast<double>(m.names.size() + 1);
+  constexpr double kMaxLogValues = 2.5e8;  // 2 GB of doubles
+  if (values > kMaxLogValues)
+    throw InputError(fmt::format("a {} s run logged at {} Hz would hold {:.3g} values ({:.3g} GB, the limit is 2 GB): shorten duration_s "
+                                 "or lower log_rate_hz", m.spec.duration_s, m.spec.log_rate_hz, values, values * 8 / 1e9));
   Log log;
   for (std::size_t s = 0; s < m.names.size(); ++s) log.add_column(m.names[s], m.units[s]);
   log.reserve(static_cast<std::size_t>(end / log_period) + 2);
 
   for (auto& c : m.ctrls) c.next_tick = 0;
-  Ns next_log = 0, next_frame = frame_period == kNever ? kNever : 0;
+  Ns next_log = 0;
   Ns next_progress = end / 100;
   Ns t = 0;
   m.refresh_true();
   m.apply_forces(0.0);
   for (;;) {
-    // Events at t: publications, then controller ticks, then log and frame.
+    // Events at t: publications, then controller ticks, then the log.
     for (auto& c : m.ctrls)
       if (c.publish_at == t) m.publish(c);
     bool tick = false;
@@ -440,22 +417,19 @@ Log Simulation::run(const std::function<void(double)>& on_frame, const std::func
       for (std::size_t s = 0; s < m.bus.size(); ++s) log.set(static_cast<int>(s) + 1, m.bus[s]);
       next_log += log_period;
     }
-    if (t == next_frame) {
-      if (on_frame) on_frame(m.t_of(t));
-      next_frame += frame_period;
-    }
     if (on_progress && t >= next_progress) {
       on_progress(static_cast<double>(t) / static_cast<double>(end));
       next_progress += std::max<Ns>(end / 100, 1);
     }
     if (t >= end) break;
-    Ns next = std::min({end, next_log, next_frame});
+    Ns next = std::min(end, next_log);
     for (const auto& c : m.ctrls) next = std::min({next, c.next_tick, c.publish_at});
     try {
       m.plant.advance_to(m.t_of(t0 + next));
-    } catch (const model::ModelError& e) {
+    } catch (model::ModelError& e) {  // the plant's own divergence: add the joints' state, keep the error
       m.refresh_true();
-      throw DivergenceError(fmt::format("{} ({})", e.what(), m.state_text()));
+      e.append(" (" + m.state_text() + ")");
+      throw;
     }
     m.advance_thermal(m.t_of(next - t));
     t = next;

@@ -44,16 +44,16 @@ ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>
     else if (o == "free") groups[g].second = &r;
     else throw InputError(s.file + ": experiment sysid_rfsea: variant '" + r.name + "' is neither 'locked' nor 'free' on the 'output' axis");
   }
-  viz::Figure bode(1200, 900);
+  plot::Figure bode(1200, 900);
   bode.title = "Current to force, " + J + ": simulated measurement and identified model";
   auto& mag = bode.add_axes();
   mag.y_label = "|F/i| (dB re 1 N/A)";
-  mag.x_scale = viz::Scale::Log;
+  mag.x_scale = plot::Scale::Log;
   mag.x_tick_labels = false;
   auto& ph = bode.add_axes();
   ph.y_label = "Phase (deg)";
   ph.x_label = "Frequency (Hz)";
-  ph.x_scale = viz::Scale::Log;
+  ph.x_scale = plot::Scale::Log;
   ph.y_tick_step = 45;
 
   for (const std::string& g : order) {
@@ -119,8 +119,8 @@ ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>
         while (!a.empty() && deg - a.back() < -180) deg += 360;
         a.push_back(deg);
       }
-      mag.series.push_back({label + " output, simulated", *fr, m, viz::Color{}, 1.0, false, true});
-      ph.series.push_back({label + " output, simulated", *fr, a, viz::Color{}, 1.0, false, true});
+      mag.series.push_back({label + " output, simulated", *fr, m, plot::Color{}, 1.0, false, true});
+      ph.series.push_back({label + " output, simulated", *fr, a, plot::Color{}, 1.0, false, true});
       const auto fine = log_frequencies(fr->front(), fr->back(), 300);
       const RfseaResponse model = rfsea_response(test, fit.params, data.constants, fine, data.sampling);
       std::vector<double> mm, aa;

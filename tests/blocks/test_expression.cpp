@@ -333,5 +333,86 @@ TEST(ExpressionErrors, TransferFunctionParseReportsColumns) {
   EXPECT_EQ(e.column, 1);  // exact column
 }
 
+// ---------------------------------------------------------------------------------------
+// Issue 13 item 8: deep or long expressions used to overflow the stack (SIGSEGV) in the
+// parser, the evaluator and the recursive teardown of the tree. Nesting, operand count
+// and degree are now limited with a located error; long chains are flat.
+
+std::string repeat(const std::string& s, int n) {
+  std::string r;
+  for (int k = 0; k < n; ++k) r += s;
+  return r;
+}
+
+TEST(ExpressionLimits, NestingAtTheLimitParsesOneMoreIsLocated) {
+  const int n = Expression::kMaxDepth - 1;  // the outer expression is one level itself
+  EXPECT_EQ(eval(repeat("(", n) + "2" + repeat(")", n)), 2.0);
+  const std::string deep = repeat("(", n + 1) + "2" + repeat(")", n + 1);
+  const Caught e = catch_expression_error([&] { (void)Expression::parse(deep); });
+  ASSERT_TRUE(e.thrown);
+  EXPECT_EQ(e.column, n + 2);  // the first token of level 201, just inside the last (
+  EXPECT_TRUE(mentions(e.message, "nested more than 200 levels"));
+}
+
+TEST(ExpressionLimits, FifteenThousandParenthesesSignsOrPowersAreAnError) {
+  // Each of these used to crash the process.
+  for (const std::string& text : {repeat("(", 15000) + "s" + repeat(")", 15000), repeat("-", 15000) + "1",
+                                  repeat("2^", 15000) + "1", repeat("sqrt(", 15000) + "1" + repeat(")", 15000)}) {
+    const Caught e = catch_expression_error([&] { (void)Expression::parse(text).evaluate_rational({}, 's'); });
+    ASSERT_TRUE(e.thrown) << text.substr(0, 20);
+    EXPECT_TRUE(mentions(e.message, "levels deep"));
+  }
+}
+
+TEST(ExpressionLimits, LongChainsEvaluateWithoutRecursion) {
+  // 9,999 terms: below the operand limit; a chain is one node, so nothing recurses
+  // 10,000 deep. Sums of 1 and products of 1 are exact: tolerance 0.
+  EXPECT_EQ(eval("1" + repeat("+1", 9999)), 10000.0);
+  EXPECT_EQ(eval("2" + repeat("*1", 9999)), 2.0);
+  EXPECT_EQ(eval("8" + repeat("/2", 3) + repeat("-0", 5000)), 1.0);
+  // Left to right as before: 1 - 2 - 3 = -4, 12 / 2 / 3 = 2, 2 * 3 / 4 = 1.5.
+  EXPECT_EQ(eval("1-2-3"), -4.0);
+  EXPECT_EQ(eval("12/2/3"), 2.0);
+  EXPECT_EQ(eval("2*3/4"), 1.5);
+  // A rational chain: (s + s + ... + s) / s = 500 (s cancels only numerically: compare
+  // coefficient by coefficient).
+  const Rational r = Expression::parse("(" + std::string("s") + repeat("+s", 499) + ")/s").evaluate_rational({}, 's');
+  EXPECT_EQ(r.num.degree(), 1);
+  EXPECT_EQ(r.num[1], 500.0);
+  EXPECT_EQ(r.den.degree(), 1);
+  EXPECT_EQ(r.den[1], 1.0);
+}
+
+TEST(ExpressionLimits, TwentyThousandTermsAreALocatedError) {
+  const std::string text = "1" + repeat("+s", 20000);  // used to crash the process
+  const Caught e = catch_expression_error([&] { (void)Expression::parse(text); });
+  ASSERT_TRUE(e.thrown);
+  EXPECT_EQ(e.column, 1 + 2 * 10000);  // the 10,001st operand
+  EXPECT_TRUE(mentions(e.message, "more than 10000 numbers and names"));
+}
+
+TEST(ExpressionLimits, DegreeAboveTheLimitIsLocated) {
+  // (s+1)^64 is degree 64; 16 of them multiplied reach 1024 > 1000 at the 16th '*'.
+  std::string text = "(s+1)^64";
+  for (int k = 1; k < 16; ++k) text += "*(s+1)^64";
+  const Caught e = catch_expression_error([&] { (void)Expression::parse(text).evaluate_rational({}, 's'); });
+  ASSERT_TRUE(e.thrown);
+  EXPECT_EQ(e.column, static_cast<int>(text.rfind('*')) + 1);
+  EXPECT_TRUE(mentions(e.message, "degree 1024 in s (at most 1000)"));
+  // A power whose result would exceed the limit is refused before it is formed.
+  const Caught p = catch_expression_error([] { (void)Expression::parse("((s+1)^64)^64").evaluate_rational({}, 's'); });
+  ASSERT_TRUE(p.thrown);
+  EXPECT_TRUE(mentions(p.message, "degree 4096"));
+  // Degree 960 (15 factors) is allowed.
+  text = "(z+1)^64";
+  for (int k = 1; k < 15; ++k) text += "*(z+1)^64";
+  EXPECT_EQ(Expression::parse(text).evaluate_rational({}, 'z').num.degree(), 960);
+}
+
+TEST(ExpressionLimits, TransferFunctionParseReportsTheLimits) {
+  EXPECT_THROW((void)TransferFunction::parse(repeat("(", 15000) + "s" + repeat(")", 15000)), InputError);
+  EXPECT_THROW((void)TransferFunction::parse("1/(s" + repeat("+1", 20000) + ")"), InputError);
+}
+
 }  // namespace
 }  // namespace dmbd::blocks

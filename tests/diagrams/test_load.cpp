@@ -252,6 +252,49 @@ TEST(LoadErrors, AlgebraicLoopNamesTheBlocks) {
   EXPECT_TRUE(diagnostics_are(bad("algebraic_loop.yaml"), {{5, 3, "algebraic loop: err -> k1 -> k2 -> err"}}));
 }
 
+// Issue 13: the loop search used to recurse once per block of a chain and overflowed
+// the stack on a long one (30,000 gains under AddressSanitizer). It is iterative now.
+TEST(LoadErrors, AlgebraicLoopSearchOnALongChainDoesNotRecurse) {
+  const int n = 20000;
+  std::string yaml = "name: chain\ninputs: {u: {}}\noutputs: {y: {}}\nblocks:\n  err: {type: sum, signs: \"+-\"}\n";
+  for (int k = 0; k < n; ++k) yaml += "  g" + std::to_string(k) + ": {type: gain, k: 1}\n";
+  yaml += "connections:\n  - u -> err.in1\n  - err -> g0\n";
+  for (int k = 1; k < n; ++k) yaml += "  - g" + std::to_string(k - 1) + " -> g" + std::to_string(k) + "\n";
+  yaml += "  - g" + std::to_string(n - 1) + " -> [err.in2, y]\n";
+  try {
+    (void)Diagram::parse(yaml, "chain.yaml");
+    ADD_FAILURE() << "no DiagramError";
+  } catch (const DiagramError& e) {
+    ASSERT_EQ(e.diagnostics().size(), 1u);
+    const std::string msg = e.diagnostics()[0].str();
+    EXPECT_EQ(msg.rfind("chain.yaml:5:3: error: algebraic loop: err -> g0 -> g1 -> ", 0), 0u) << msg.substr(0, 200);
+    EXPECT_NE(msg.find("g19999 -> err (every block"), std::string::npos);
+  }
+}
+
+// Issue 13, found by fuzzing: a few lines could ask for gigabytes (a dense n x n model
+// of an n-sample delay, an m x km matrix for a sum), and a delay in seconds of more
+// than 2^31 samples was converted to int (undefined behaviour). Each is a located error.
+TEST(LoadErrors, SizesThatWouldNeedGigabytesAreLocatedErrors) {
+  const std::string head = "name: big\nsample_time: 0.001\ninputs: {u: {size: 1000}}\noutputs: {y: {size: 1000}}\nblocks:\n";
+  const std::string tail = "connections:\n  - u -> a.in1\n  - a -> y\n";
+  const std::string many_signs = "  a: {type: sum, size: 1000, signs: \"" + std::string(11, '+') + "\"}\n";
+  EXPECT_TRUE(check_diagnostics([&] { Diagram::parse(head + many_signs + tail, "sum.yaml"); }, "sum.yaml",
+                                {{6, 38, "11 inputs of size 1000 make a matrix of more than 10000000 entries"}}, true));
+  const std::string scalar = "name: d\nsample_time: 0.001\ninputs: {u: {}}\noutputs: {y: {}}\nblocks:\n";
+  const std::string wires = "connections:\n  - u -> a\n  - a -> y\n";
+  EXPECT_TRUE(check_diagnostics([&] { Diagram::parse(scalar + "  a: {type: delay, samples: 100000}\n" + wires, "d.yaml"); },
+                                "d.yaml", {{6, 29, "'samples' must be a whole number from 0 to 1000"}}, true));
+  EXPECT_TRUE(check_diagnostics([&] { Diagram::parse(scalar + "  a: {type: delay, seconds: 1e10}\n" + wires, "d.yaml"); },
+                                "d.yaml", {{6, 29, "is more than 1000 samples of 0.001000 s"}}, true));
+  // At the limits they load: 1000 samples, 10 inputs of size 1000.
+  EXPECT_NO_THROW(Diagram::parse(scalar + "  a: {type: delay, samples: 1000}\n" + wires, "d.yaml"));
+  const std::string ten = "  a: {type: sum, size: 1000, signs: \"" + std::string(10, '+') + "\"}\n";
+  std::string ok = head + ten + "connections:\n";
+  for (int k = 1; k <= 10; ++k) ok += "  - u -> a.in" + std::to_string(k) + "\n";
+  EXPECT_NO_THROW(Diagram::parse(ok + "  - a -> y\n", "sum.yaml"));
+}
+
 TEST(LoadErrors, AlgebraicLoopThroughASubsystemWithFeedthrough) {
   EXPECT_TRUE(
       diagnostics_are(bad("algebraic_loop_through_subsystem.yaml"), {{5, 3, "algebraic loop: err -> amp -> err"}}));

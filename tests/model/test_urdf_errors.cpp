@@ -185,8 +185,36 @@ INSTANTIATE_TEST_SUITE_P(
                 with_link("<visual>\n<geometry><sphere radius=\"1\"/></geometry>\n<material name=\"m\">\n<color rgba=\"1 0 0 2\"/>\n</material>\n</visual>"),
                 "<color", {"link 'l'", "expected 4 numbers in [0, 1]"}},
         BadText{"UrdfdomOnlyError", "<robot name=\"r\" version=\"2.0\">\n<link name=\"a\"/>\n</robot>", "<robot",
-                {"urdfdom:", "version"}}),
+                {"urdfdom:", "version"}},
+        // Issue 13 item 12: TinyXML reads past the end of the text on a UTF-8 sequence cut
+        // short (the fuzzer's unreproducible memcpy overflows); such text is refused first.
+        BadText{"Utf8CutShortAtTheEnd", "<robot name=\"r\">\n<link name=\"a\"/>\n</robot>\n\xF0\x9F", "\xF0",
+                {"column 1: byte 0xF0 is not UTF-8 text (expected a UTF-8 file)"}},
+        BadText{"Utf8CutShortInAName", "<robot name=\"r\">\n<link name=\"a\xE2\x82\"/>\n</robot>", "<link",
+                {"column 14: byte 0xE2 is not UTF-8 text"}},
+        BadText{"Latin1", "<robot name=\"r\xE9\">\n<link name=\"a\"/>\n</robot>", "<robot", {"column 15: byte 0xE9 is not UTF-8"}},
+        BadText{"NulByte", std::string("<robot name=\"r\">\n<link name=\"a\"/>") + '\0' + "\n</robot>", "<link",
+                {"column 17: a NUL byte (expected XML text)"}},
+        BadText{"DeepNesting", "<robot name=\"r\">\n" + [] {
+                  std::string s;
+                  for (int k = 0; k < 100000; ++k) s += "<a>";  // used to overflow the stack in TinyXML
+                  return s;
+                }(), "<a>", {"column 29998: more than 10000 elements with content"}}),
     [](const testing::TestParamInfo<BadText>& i) { return i.param.name; });
+
+TEST(UrdfText, Utf8AndManyEmptyElementsAreAccepted) {
+  // Non-ASCII names and comments in UTF-8 load; self-closing elements (even 20,000 of
+  // them, ignored with one warning) do not count towards the limit of 10,000 with content.
+  std::string xml = "<robot name=\"r\xC3\xA9\">\n<!-- \xF0\x9F\xA6\xBF -->\n<link name=\"\xE2\x82\xAC\"/>\n";
+  for (int k = 0; k < 20000; ++k) xml += "<extra note=\"/>\"/>";
+  xml += "\n</robot>\n";
+  const RobotDescription r = parse_urdf(xml, ".", "inline.urdf");
+  EXPECT_EQ(r.name, "r\xC3\xA9");
+  ASSERT_EQ(r.links.size(), 1u);
+  EXPECT_EQ(r.links[0].name, "\xE2\x82\xAC");
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("20000 elements"), std::string::npos) << r.warnings[0];
+}
 
 }  // namespace
 }  // namespace dmbd::model

@@ -136,3 +136,61 @@ TEST(SimStandingMetrics, FellByDropOrTiltAndTheFiguresOfTheRun) {
 }
 
 }  // namespace
+
+namespace {
+
+// Two variants' synthetic step responses of l_ankle (q_d steps at 0.5 s to 1).
+std::vector<dmbd::sim::VariantResult> ankle_runs(double t_end) {
+  std::vector<dmbd::sim::VariantResult> runs(2);
+  for (int v = 0; v < 2; ++v) {
+    auto& r = runs[static_cast<std::size_t>(v)];
+    r.name = v ? "slow" : "fast";
+    r.log.add_column("q_d", "rad");
+    r.log.add_column("l_ankle.q", "rad");
+    for (int k = 0; k <= static_cast<int>(t_end * 1000); ++k) {
+      const double t = k / 1000.0, step = t >= 0.5 ? 1.0 : 0.0;
+      r.log.begin_row(t);
+      r.log.set(1, step);
+      r.log.set(2, step * (1 - std::exp(-(t - 0.5) / (v ? 0.2 : 0.05))));
+    }
+  }
+  return runs;
+}
+
+dmbd::sim::Scenario ankle_step() {
+  dmbd::sim::Scenario s;
+  s.file = "ankle.yaml";
+  s.experiment.type = "step_response";
+  s.experiment.joint = "l_ankle";
+  s.experiment.number = {{"step_start_s", 0.5}, {"step_end_s", 2.0}, {"sine_start_s", 2.0}, {"sine_end_s", 3.0}};
+  return s;
+}
+
+// Issue 13, items 6 and 7: the figures name the experiment's joint (not "Knee"); a
+// variant keeps its colour in every figure (here it is first after the reference in one
+// axes and first outright in another); a run shorter than the windows is a warning.
+TEST(SimStepExperiment, TitlesColoursAndShortRuns) {
+  const auto res = dmbd::sim::evaluate_experiment(ankle_step(), ankle_runs(3.0));
+  ASSERT_EQ(res.figures.size(), 2u);
+  EXPECT_NE(res.figures[0].second.title.find("l_ankle"), std::string::npos) << res.figures[0].second.title;
+  EXPECT_EQ(res.figures[0].second.title.find("Knee"), std::string::npos);
+  auto colour_of = [](const dmbd::plot::Axes& a, const std::string& label) {
+    for (const auto& s : a.series)
+      if (s.label == label) return s.color;
+    ADD_FAILURE() << "no series " << label;
+    return dmbd::plot::Color{};
+  };
+  const auto& step_axes = res.figures[0].second.axes()[0];
+  const auto& error_axes = res.figures[1].second.axes()[1];
+  for (const char* v : {"fast", "slow"}) {
+    const auto a = colour_of(step_axes, v), b = colour_of(error_axes, v);
+    EXPECT_TRUE(a.r == b.r && a.g == b.g && a.b == b.b) << v;
+    EXPECT_FALSE(a.r == 0 && a.g == 0 && a.b == 0) << v << " has an automatic colour";
+  }
+  EXPECT_TRUE(res.warnings.empty());
+  const auto short_run = dmbd::sim::evaluate_experiment(ankle_step(), ankle_runs(1.0));
+  ASSERT_EQ(short_run.warnings.size(), 2u);
+  EXPECT_NE(short_run.warnings[0].find("ends at 1 s"), std::string::npos) << short_run.warnings[0];
+}
+
+}  // namespace

@@ -109,12 +109,13 @@ std::string gain_diagram(double k, const std::string& unit_in = "A", const std::
   return s.str();
 }
 
-ControllerSpec controller(const std::string& name, std::shared_ptr<const dmbd::codegen::LoopProgram> p, double rate_hz,
-                          double delay_s, std::vector<std::string> in, std::vector<std::string> out) {
+// A loop program on the bus (it runs at the rate it was lowered at).
+ControllerSpec controller(const std::string& name, std::shared_ptr<const dmbd::codegen::LoopProgram> p, double delay_s,
+                          std::vector<std::string> in, std::vector<std::string> out, Scalar scalar = Scalar::Double,
+                          std::shared_ptr<const dmbd::codegen::FixedProgram> fixed = nullptr) {
   ControllerSpec c;
   c.name = name;
-  c.program = std::move(p);
-  c.rate_hz = rate_hz;
+  c.controller = dmbd::sim::loop_program_controller(std::move(p), scalar, std::move(fixed));
   c.delay_s = delay_s;
   c.inputs = std::move(in);
   c.outputs = std::move(out);
@@ -147,7 +148,7 @@ Log run_gain(double delay_s, double log_rate_hz, double duration_s = 0.05) {
   auto plant = knee_plant();
   SimulationSpec spec;
   spec.references.push_back({"r", test_sine()});
-  spec.controllers.push_back(controller("gain", lower_text(gain_diagram(2.0), 1000), 1000, delay_s, {"r"}, {"l_knee.current"}));
+  spec.controllers.push_back(controller("gain", lower_text(gain_diagram(2.0), 1000), delay_s, {"r"}, {"l_knee.current"}));
   spec.duration_s = duration_s;
   spec.log_rate_hz = log_rate_hz;
   Simulation sim(*plant, spec);
@@ -392,8 +393,8 @@ TEST(SimMultiRate, ChainedControllersAtTwoRates) {
   auto plant = knee_plant();
   SimulationSpec spec;
   spec.references.push_back({"r", test_sine()});
-  spec.controllers.push_back(controller("outer", lower_text(gain_diagram(2.0), 1000), 1000, 1e-3, {"r"}, {"x.bus"}));
-  spec.controllers.push_back(controller("inner", lower_text(gain_diagram(0.5), 2000), 2000, 0.0, {"x.bus"}, {"l_knee.current"}));
+  spec.controllers.push_back(controller("outer", lower_text(gain_diagram(2.0), 1000), 1e-3, {"r"}, {"x.bus"}));
+  spec.controllers.push_back(controller("inner", lower_text(gain_diagram(0.5), 2000), 0.0, {"x.bus"}, {"l_knee.current"}));
   spec.duration_s = 0.05;
   spec.log_rate_hz = 2000;
   Simulation sim(*plant, spec);
@@ -433,15 +434,14 @@ TEST(SimSetup, BadSpecificationsAreInputErrors) {
   const auto p1k = lower_text(gain_diagram(1.0), 1000);
   SimulationSpec spec;
   spec.duration_s = 0.01;
-  spec.controllers = {controller("c", p1k, 1000, 0, {"no.such.signal"}, {"l_knee.current"})};
+  spec.controllers = {controller("c", p1k, 0, {"no.such.signal"}, {"l_knee.current"})};
   expect_error(spec, "no.such.signal");
-  spec.controllers = {controller("c", p1k, 2000, 0, {"l_knee.q"}, {"l_knee.current"})};
-  expect_error(spec, "lowered at 1000 Hz");
-  spec.controllers = {controller("c", p1k, 1000, 2e-3, {"l_knee.q"}, {"l_knee.current"})};
+  // (A rate disagreeing with the program's cannot be given: the controller states its own.)
+  spec.controllers = {controller("c", p1k, 2e-3, {"l_knee.q"}, {"l_knee.current"})};
   expect_error(spec, "delay");
-  spec.controllers = {controller("c", p1k, 1000, 0, {"l_knee.q", "l_knee.qd"}, {"l_knee.current"})};
-  expect_error(spec, "2 inputs bound for 1 program inputs");
-  spec.controllers = {controller("c", p1k, 1000, 0, {"r"}, {"l_knee.current"})};
+  spec.controllers = {controller("c", p1k, 0, {"l_knee.q", "l_knee.qd"}, {"l_knee.current"})};
+  expect_error(spec, "2 inputs bound for 1 controller inputs");
+  spec.controllers = {controller("c", p1k, 0, {"r"}, {"l_knee.current"})};
   spec.references = {{"r", Source{}}, {"l_knee.current", Source{}}};
   expect_error(spec, "both drive 'l_knee.current'");
   spec.controllers.clear();
@@ -463,7 +463,7 @@ TEST(SimSetup, RateThatIsNotAWholeNumberOfNanosecondsIsRejected) {
     auto plant = knee_plant();
     SimulationSpec spec;
     spec.duration_s = 0.01;
-    spec.controllers = {controller("c", lower_text(gain_diagram(1.0), rate), rate, 0, {"l_knee.q"}, {"l_knee.current"})};
+    spec.controllers = {controller("c", lower_text(gain_diagram(1.0), rate), 0, {"l_knee.q"}, {"l_knee.current"})};
     try {
       Simulation sim(*plant, spec);
       ADD_FAILURE() << rate << " Hz accepted";
@@ -536,15 +536,14 @@ ClosedLoop run_encoder_pd(Scalar scalar, double delay_s, bool noise, double dura
   auto plant = knee_plant();
   SimulationSpec spec;
   spec.references.push_back({"q_d", knee_step()});
-  ControllerSpec c = controller("position", program, 1000, delay_s, {"q_d", "l_knee.q_enc"}, {"l_knee.current"});
-  c.scalar = scalar;
+  std::shared_ptr<const dmbd::codegen::FixedProgram> fixed;
   if (scalar == Scalar::Fixed) {
     const auto d = dmbd::diagrams::Diagram::load(file);
     std::vector<std::pair<double, double>> ranges;
     for (const auto& in : d->inputs()) ranges.push_back(*in.range);
-    c.fixed = std::make_shared<dmbd::codegen::FixedProgram>(dmbd::codegen::make_fixed(*program, ranges, 32));
+    fixed = std::make_shared<dmbd::codegen::FixedProgram>(dmbd::codegen::make_fixed(*program, ranges, 32));
   }
-  spec.controllers.push_back(c);
+  spec.controllers.push_back(controller("position", program, delay_s, {"q_d", "l_knee.q_enc"}, {"l_knee.current"}, scalar, fixed));
   spec.duration_s = duration_s;
   spec.log_rate_hz = 1000;
   spec.sensor_noise = noise;
@@ -646,7 +645,7 @@ TEST(SimInterpreter, FloatAndFixedRunAndStayCloseToDouble) {
 TEST(SimDivergence, RunawayIsADivergenceErrorNamingTimeAndJoint) {
   auto plant = knee_plant();
   SimulationSpec spec;
-  spec.controllers.push_back(controller("runaway", lower_text(gain_diagram(1e6, "rad", "N m"), 1000), 1000, 0, {"l_knee.q"}, {"l_knee.torque"}));
+  spec.controllers.push_back(controller("runaway", lower_text(gain_diagram(1e6, "rad", "N m"), 1000), 0, {"l_knee.q"}, {"l_knee.torque"}));
   spec.duration_s = 1.0;
   Simulation sim(*plant, spec);
   try {
@@ -678,7 +677,7 @@ TEST(SimLogging, LogRateDoesNotChangeWhatTheControllerSees) {
       auto plant = knee_plant();
       SimulationSpec spec;
       spec.references.push_back({"q_d", knee_step()});
-      spec.controllers.push_back(controller("position", program, 1000, 1e-3, {"q_d", "l_knee.q_pot"}, {"l_knee.current"}));
+      spec.controllers.push_back(controller("position", program, 1e-3, {"q_d", "l_knee.q_pot"}, {"l_knee.current"}));
       spec.duration_s = 0.3;
       spec.log_rate_hz = log_rate;
       spec.sensor_noise = noise;
@@ -698,8 +697,8 @@ TEST(SimLogging, LogRateDoesNotChangeWhatTheControllerSees) {
 }
 
 // A reference named like a command drives the plant directly (a current chirp for
-// system identification); frames are called at their rate from t = 0, progress ends at 1.
-TEST(SimCallbacks, ReferenceAsCommandFramesAndProgress) {
+// system identification); progress rises to 1.
+TEST(SimCallbacks, ReferenceAsCommandAndProgress) {
   auto plant = knee_plant();
   SimulationSpec spec;
   Source chirp;
@@ -711,12 +710,9 @@ TEST(SimCallbacks, ReferenceAsCommandFramesAndProgress) {
   spec.references.push_back({"l_knee.current", chirp});
   spec.duration_s = 0.05;
   spec.log_rate_hz = 2000;
-  spec.frame_rate_hz = 100;
   Simulation sim(*plant, spec);
-  std::vector<double> frames, progress;
-  const Log log = sim.run([&](double t) { frames.push_back(t); }, [&](double f) { progress.push_back(f); });
-  ASSERT_EQ(frames.size(), 6u);  // 0, 10, ..., 50 ms
-  for (std::size_t k = 0; k < frames.size(); ++k) EXPECT_NEAR(frames[k], 0.01 * static_cast<double>(k), 1e-15);
+  std::vector<double> progress;
+  const Log log = sim.run([&](double f) { progress.push_back(f); });
   ASSERT_FALSE(progress.empty());
   EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));
   EXPECT_EQ(progress.back(), 1.0);

@@ -1,9 +1,11 @@
 #include "dmbd/viz/diagram_drawing.hpp"
+#include "dmbd/base/file.hpp"
 
 #include <algorithm>
 #include <functional>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "dmbd/viz/plot.hpp"
 
@@ -16,15 +18,24 @@ constexpr int kLayerGap = 110, kRowGap = 50, kMargin = 50, kLane = 26;
 const cv::Scalar kInk(40, 40, 40), kBlue(180, 119, 31), kGrey(120, 120, 120), kFill(250, 244, 236),
     kIoFill(236, 246, 236);
 
-std::string summary(const diagrams::Block& b) {
-  std::string s;
-  for (const auto& [k, v] : b.fields) {
-    if (k == "description" || k == "parameters") continue;
-    std::string item = k + ": " + v;
-    if (b.type == diagrams::BlockType::Tf && k == "expr") item = v;
-    s += (s.empty() ? "" : ", ") + item;
-  }
-  return s;
+int text_width(const std::string& text, double scale, int thickness) {
+  int base = 0;
+  return cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &base).width;
+}
+
+int widest(const std::vector<std::string>& labels, double scale) {
+  int w = 0;
+  for (const auto& l : labels) w = std::max(w, text_width(l, scale, 1));
+  return w;
+}
+
+// Wide enough for its name, kind and summary (up to 360 px: longer summaries end in an
+// ellipsis) between the port names on either side (written where a block has several).
+int block_width(const DiagramPicture::Block& b) {
+  const int centre = std::max({text_width(b.name, 0.62, 2), text_width(b.kind, 0.45, 1), std::min(360, text_width(b.summary, 0.4, 1))});
+  const int in = b.input_labels.size() > 1 ? widest(b.input_labels, 0.4) + 8 : 0;
+  const int out = b.output_labels.size() > 1 ? widest(b.output_labels, 0.4) + 8 : 0;
+  return std::max(kBoxW, centre + 2 * std::max(in, out) + 24);
 }
 
 // Fit text into a width by shortening it with an ellipsis.
@@ -55,19 +66,25 @@ void arrow_head(cv::Mat& img, cv::Point tip, cv::Point dir, cv::Scalar color) {
 
 }  // namespace
 
-DiagramLayout layout_diagram(const diagrams::Diagram& d) {
+DiagramLayout layout_diagram(const DiagramPicture& d) {
   DiagramLayout L;
-  const int ni = static_cast<int>(d.inputs().size()), nb = static_cast<int>(d.blocks().size()),
-            no = static_cast<int>(d.outputs().size());
-  for (int i = 0; i < ni; ++i) L.nodes.push_back({d.inputs()[static_cast<size_t>(i)].name, 0, i, 0, 0, {}});
-  for (int i = 0; i < nb; ++i) L.nodes.push_back({d.blocks()[static_cast<size_t>(i)].name, 1, i, 0, 0, {}});
-  for (int i = 0; i < no; ++i) L.nodes.push_back({d.outputs()[static_cast<size_t>(i)].name, 2, i, 0, 0, {}});
-  auto node_of = [&](const diagrams::Source& s) { return s.block < 0 ? s.port : ni + s.block; };
-  for (int bi = 0; bi < nb; ++bi)
-    for (size_t k = 0; k < d.drivers(bi).size(); ++k)
-      L.edges.push_back({node_of(d.drivers(bi)[k]), ni + bi, d.drivers(bi)[k].port, static_cast<int>(k), false, {}});
-  for (int j = 0; j < no; ++j)
-    L.edges.push_back({node_of(d.output_driver(j)), ni + nb + j, d.output_driver(j).port, 0, false, {}});
+  const int ni = static_cast<int>(d.inputs.size()), nb = static_cast<int>(d.blocks.size()),
+            no = static_cast<int>(d.outputs.size());
+  if (d.drivers.size() != d.blocks.size() || d.output_drivers.size() != d.outputs.size())
+    throw std::invalid_argument("viz::layout_diagram: one driver list per block and one driver per output expected");
+  for (int i = 0; i < ni; ++i) L.nodes.push_back({d.inputs[static_cast<size_t>(i)], 0, i, 0, 0, {}});
+  for (int i = 0; i < nb; ++i) L.nodes.push_back({d.blocks[static_cast<size_t>(i)].name, 1, i, 0, 0, {}});
+  for (int i = 0; i < no; ++i) L.nodes.push_back({d.outputs[static_cast<size_t>(i)], 2, i, 0, 0, {}});
+  auto node_of = [&](const DiagramPicture::Source& s) { return s.block < 0 ? s.port : ni + s.block; };
+  for (int bi = 0; bi < nb; ++bi) {
+    const auto& drv = d.drivers[static_cast<size_t>(bi)];
+    for (size_t k = 0; k < drv.size(); ++k)
+      L.edges.push_back({node_of(drv[k]), ni + bi, drv[k].block < 0 ? 0 : drv[k].port, static_cast<int>(k), false, {}});
+  }
+  for (int j = 0; j < no; ++j) {
+    const auto& src = d.output_drivers[static_cast<size_t>(j)];
+    L.edges.push_back({node_of(src), ni + nb + j, src.block < 0 ? 0 : src.port, 0, false, {}});
+  }
   const int n = static_cast<int>(L.nodes.size());
 
   // Feedback edges: back edges of a depth-first search from the inputs (then from any
@@ -153,13 +170,19 @@ DiagramLayout layout_diagram(const diagrams::Diagram& d) {
     }
   }
 
-  // Coordinates: each layer a column, its nodes stacked with their own heights (a block
-  // grows with its number of ports), columns centred vertically.
+  // Coordinates: each layer a column as wide as its widest node, its nodes stacked with
+  // their own heights (a block grows with its number of ports), columns centred
+  // vertically; the gap before a column widens with the wires that turn in it.
+  auto width_of = [&](const DiagramLayout::Node& nd) {
+    if (nd.kind == 3) return 2;
+    if (nd.kind != 1) return std::max(kIoW, text_width(nd.kind == 0 ? d.inputs[static_cast<size_t>(nd.index)] : d.outputs[static_cast<size_t>(nd.index)], 0.55, 1) + 24);
+    return block_width(d.blocks[static_cast<size_t>(nd.index)]);
+  };
   auto height_of = [&](const DiagramLayout::Node& nd) {
     if (nd.kind == 3) return 2;
     if (nd.kind != 1) return kIoH;
-    const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
-    const int ports = static_cast<int>(std::max(b.inputs.size(), b.outputs.size()));
+    const auto& b = d.blocks[static_cast<size_t>(nd.index)];
+    const int ports = static_cast<int>(std::max(b.input_labels.size(), b.output_labels.size()));
     return std::max(kBoxH, 24 * ports + 12);
   };
   std::vector<int> column(static_cast<size_t>(L.layers), 0);
@@ -168,13 +191,25 @@ DiagramLayout layout_diagram(const diagrams::Diagram& d) {
   const int body = *std::max_element(column.begin(), column.end());
   int nfb = 0;
   for (const auto& e : L.edges) nfb += e.feedback ? 1 : 0;
-  L.size = cv::Size(2 * kMargin + L.layers * (kBoxW + kLayerGap), 2 * kMargin + 20 + body + nfb * kLane + 30);
+  std::vector<int> turns(static_cast<size_t>(L.layers), 0);  // forward wires arriving in each column
+  for (const auto& [from, to] : segments) ++turns[static_cast<size_t>(L.nodes[static_cast<size_t>(to)].layer)];
+  L.column_x.assign(static_cast<size_t>(L.layers), 0);
+  L.column_w.assign(static_cast<size_t>(L.layers), kIoW);
+  for (size_t l = 0; l < layer.size(); ++l)
+    for (int v : layer[l]) L.column_w[l] = std::max(L.column_w[l], width_of(L.nodes[static_cast<size_t>(v)]));
+  int x = kMargin;
+  for (size_t l = 0; l < layer.size(); ++l) {
+    if (l > 0) x += std::max(kLayerGap, 12 * (turns[l] + 1));
+    L.column_x[l] = x;
+    x += L.column_w[l];
+  }
+  L.size = cv::Size(x + kMargin, 2 * kMargin + 20 + body + nfb * kLane + 30);
   for (size_t l = 0; l < layer.size(); ++l) {
     int y = kMargin + 20 + (body - column[l]) / 2;
     for (int v : layer[l]) {
       auto& nd = L.nodes[static_cast<size_t>(v)];
-      const int cx = kMargin + nd.layer * (kBoxW + kLayerGap) + kBoxW / 2;
-      const int w = nd.kind == 1 || nd.kind == 3 ? kBoxW : kIoW, h = height_of(nd);
+      const int cx = L.column_x[l] + L.column_w[l] / 2;
+      const int w = nd.kind == 3 ? L.column_w[l] : width_of(nd), h = height_of(nd);
       const int slot = h + kRowGap;
       nd.box = cv::Rect(cx - w / 2, y + (slot - h) / 2, w, h);
       y += slot;
@@ -183,10 +218,10 @@ DiagramLayout layout_diagram(const diagrams::Diagram& d) {
   return L;
 }
 
-cv::Mat draw_diagram(const diagrams::Diagram& d) {
+cv::Mat draw_diagram(const DiagramPicture& d) {
   const DiagramLayout L = layout_diagram(d);
   cv::Mat img(L.size, CV_8UC3, cv::Scalar(255, 255, 255));
-  const std::string title = d.name() + (d.description().empty() ? "" : ": " + d.description());
+  const std::string& title = d.title;
   cv::putText(img, fit(title, 0.7, 2, L.size.width - 2 * kMargin), {kMargin, 38}, cv::FONT_HERSHEY_SIMPLEX, 0.7, kInk,
               2, cv::LINE_AA);
 
@@ -194,37 +229,60 @@ cv::Mat draw_diagram(const diagrams::Diagram& d) {
     const auto& nd = L.nodes[static_cast<size_t>(node)];
     int count = 1;
     if (nd.kind == 1) {
-      const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
-      count = static_cast<int>(output ? b.outputs.size() : b.inputs.size());
+      const auto& b = d.blocks[static_cast<size_t>(nd.index)];
+      count = static_cast<int>(output ? b.output_labels.size() : b.input_labels.size());
     }
     const int y = nd.box.y + nd.box.height * (2 * port + 1) / (2 * std::max(1, count));
     return cv::Point(output ? nd.box.x + nd.box.width : nd.box.x, y);
   };
 
-  // Connections.
+  // Forward connections: through their bend points, each turning on its own vertical
+  // lane in the gap before the column it enters (lanes ordered by where they arrive, so
+  // wires do not share a segment); feedback connections in lanes below.
+  struct Hop {
+    std::size_t edge;
+    cv::Point leave, arrive;
+    int layer, x = 0;
+  };
+  std::vector<Hop> hops;
+  for (std::size_t i = 0; i < L.edges.size(); ++i) {
+    const auto& e = L.edges[i];
+    const cv::Point a = port_point(e.from, e.from_port, true), b = port_point(e.to, e.to_port, false);
+    if (e.feedback || b.x <= a.x) continue;
+    cv::Point leave = a;
+    for (int v : e.via) {
+      const auto& nd = L.nodes[static_cast<size_t>(v)];
+      hops.push_back({i, leave, {nd.box.x, nd.box.y}, nd.layer});
+      leave = {nd.box.x + nd.box.width, nd.box.y};
+    }
+    hops.push_back({i, leave, b, L.nodes[static_cast<size_t>(e.to)].layer});
+  }
+  for (int l = 1; l < L.layers; ++l) {
+    std::vector<Hop*> in;
+    for (auto& h : hops)
+      if (h.layer == l) in.push_back(&h);
+    std::stable_sort(in.begin(), in.end(), [](const Hop* p, const Hop* q) {
+      return p->arrive.y != q->arrive.y ? p->arrive.y < q->arrive.y : p->leave.y < q->leave.y;
+    });
+    const int x0 = L.column_x[static_cast<size_t>(l - 1)] + L.column_w[static_cast<size_t>(l - 1)], x1 = L.column_x[static_cast<size_t>(l)];
+    for (std::size_t k = 0; k < in.size(); ++k)
+      in[k]->x = x0 + static_cast<int>((static_cast<double>(k) + 1) * (x1 - x0) / (static_cast<double>(in.size()) + 1));
+  }
   int lane = 0;
   const int bottom = L.size.height - kMargin;
-  for (const auto& e : L.edges) {
+  for (std::size_t i = 0; i < L.edges.size(); ++i) {
+    const auto& e = L.edges[i];
     const cv::Point a = port_point(e.from, e.from_port, true), b = port_point(e.to, e.to_port, false);
-    std::vector<cv::Point> path;
-    if (!e.feedback && b.x > a.x) {
-      // Through the bend points: enter each on its left, leave on its right.
-      std::vector<std::pair<cv::Point, cv::Point>> hops;  // (leave, arrive)
-      cv::Point leave = a;
-      for (int v : e.via) {
-        const cv::Rect& r = L.nodes[static_cast<size_t>(v)].box;
-        hops.push_back({leave, {r.x, r.y}});
-        leave = {r.x + r.width, r.y};
-      }
-      hops.push_back({leave, b});
-      path = {a};
-      for (const auto& [p, q] : hops) {
-        const int mx = q.x - kLayerGap / 2 + 10 * (e.to_port % 3);
-        path.push_back({mx, p.y});
-        path.push_back({mx, q.y});
-        path.push_back(q);
-      }
-    } else {
+    std::vector<cv::Point> path{a};
+    bool routed = false;
+    for (const auto& h : hops) {
+      if (h.edge != i) continue;
+      routed = true;
+      path.push_back({h.x, h.leave.y});
+      path.push_back({h.x, h.arrive.y});
+      path.push_back(h.arrive);
+    }
+    if (!routed) {
       const int y = bottom - lane * kLane;
       ++lane;
       path = {a, {a.x + 20 + 6 * lane, a.y}, {a.x + 20 + 6 * lane, y}, {b.x - 24 - 6 * lane, y}, {b.x - 24 - 6 * lane, b.y}, b};
@@ -238,31 +296,28 @@ cv::Mat draw_diagram(const diagrams::Diagram& d) {
   for (const auto& nd : L.nodes) {
     if (nd.kind == 3) continue;
     if (nd.kind == 1) {
-      const auto& b = d.blocks()[static_cast<size_t>(nd.index)];
+      const auto& b = d.blocks[static_cast<size_t>(nd.index)];
       cv::rectangle(img, nd.box, kFill, cv::FILLED);
       cv::rectangle(img, nd.box, kInk, 2, cv::LINE_AA);
       const cv::Point c(nd.box.x + nd.box.width / 2, nd.box.y + nd.box.height / 2);
       centered(img, fit(b.name, 0.62, 2, nd.box.width - 12), {c.x, c.y - 18}, 0.62, 2, kInk);
-      centered(img, diagrams::to_string(b.type), {c.x, c.y + 4}, 0.45, 1, kGrey);
-      centered(img, fit(summary(b), 0.4, 1, nd.box.width - 12), {c.x, c.y + 24}, 0.4, 1, kInk);
+      centered(img, b.kind, {c.x, c.y + 4}, 0.45, 1, kGrey);
+      centered(img, fit(b.summary, 0.4, 1, nd.box.width - 12), {c.x, c.y + 24}, 0.4, 1, kInk);
       // Port names where a block has several.
-      for (size_t k = 0; b.inputs.size() > 1 && k < b.inputs.size(); ++k) {
+      for (size_t k = 0; b.input_labels.size() > 1 && k < b.input_labels.size(); ++k) {
         const cv::Point p = port_point(static_cast<int>(&nd - &L.nodes[0]), static_cast<int>(k), false);
-        std::string label = b.inputs[k].name;
-        if (b.type == diagrams::BlockType::Sum) label = b.signs[k] > 0 ? "+" : "-";
-        cv::putText(img, label, {p.x + 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
+        cv::putText(img, b.input_labels[k], {p.x + 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
       }
-      for (size_t k = 0; b.outputs.size() > 1 && k < b.outputs.size(); ++k) {
+      for (size_t k = 0; b.output_labels.size() > 1 && k < b.output_labels.size(); ++k) {
         const cv::Point p = port_point(static_cast<int>(&nd - &L.nodes[0]), static_cast<int>(k), true);
         int base = 0;
-        const int w = cv::getTextSize(b.outputs[k].name, cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, &base).width;
-        cv::putText(img, b.outputs[k].name, {p.x - w - 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
+        const int w = cv::getTextSize(b.output_labels[k], cv::FONT_HERSHEY_SIMPLEX, 0.4, 1, &base).width;
+        cv::putText(img, b.output_labels[k], {p.x - w - 4, p.y + 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, kBlue, 1, cv::LINE_AA);
       }
     } else {
-      const auto& s = nd.kind == 0 ? d.inputs()[static_cast<size_t>(nd.index)] : d.outputs()[static_cast<size_t>(nd.index)];
+      const std::string& label = nd.kind == 0 ? d.inputs[static_cast<size_t>(nd.index)] : d.outputs[static_cast<size_t>(nd.index)];
       cv::rectangle(img, nd.box, kIoFill, cv::FILLED);
       cv::rectangle(img, nd.box, kGrey, 1, cv::LINE_AA);
-      const std::string label = s.name + (s.unit.empty() ? "" : " [" + s.unit + "]");
       centered(img, fit(label, 0.55, 1, nd.box.width - 8), {nd.box.x + nd.box.width / 2, nd.box.y + nd.box.height / 2}, 0.55, 1,
                kInk);
     }
@@ -270,8 +325,8 @@ cv::Mat draw_diagram(const diagrams::Diagram& d) {
   return img;
 }
 
-void save_diagram_png(const diagrams::Diagram& d, const std::string& path) {
-  write_file_atomic(path, encode_png(draw_diagram(d)));
+void save_diagram_png(const DiagramPicture& d, const std::string& path) {
+  dmbd::write_file_atomic(path, encode_png(draw_diagram(d)));
 }
 
 }  // namespace dmbd::viz

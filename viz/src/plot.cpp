@@ -279,14 +279,17 @@ void check_series(const Series& s) {
         fmt::format("viz: series '{}' has {} x values but {} y values", s.label, s.x.size(), s.y.size()));
 }
 
-// Extent of the points whose x and y are both drawable on the axes' scales.
+// Extent of the points whose x and y are both drawable on the axes' scales (y only of
+// the points inside given x limits when the axes ask for it).
 void data_ranges(const Axes& ax, Range& xr, Range& yr) {
   for (const Series& s : ax.series) {
     check_series(s);
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       if (usable(s.x[i], ax.x_scale) && usable(s.y[i], ax.y_scale)) {
         xr.add(s.x[i]);
-        yr.add(s.y[i]);
+        const bool shown = !ax.y_limits_from_visible || !ax.x_limits ||
+                           (s.x[i] >= ax.x_limits->first && s.x[i] <= ax.x_limits->second);
+        if (shown) yr.add(s.y[i]);
       }
     }
   }
@@ -791,30 +794,19 @@ std::pair<double, double> nice_limits(double lo, double hi, Scale scale) {
           detail::multiple_of(std::ceil(padded_hi / step), step)};
 }
 
-Figure::Figure(int width_px, int height_px) : width_px_(width_px), height_px_(height_px) {
-  if (width_px < 64 || height_px < 64)
-    throw std::invalid_argument(
-        fmt::format("viz: figure size {} x {} px is too small (at least 64 x 64)", width_px, height_px));
-  axes_.reserve(8);
-}
-
-Axes& Figure::add_axes() { return axes_.emplace_back(); }
-std::vector<Axes>& Figure::axes() { return axes_; }
-const std::vector<Axes>& Figure::axes() const { return axes_; }
-
 cv::Rect Figure::plot_area(std::size_t index) const {
-  if (index >= axes_.size())
-    throw std::out_of_range(fmt::format("viz: axes index {} out of range (figure has {})", index, axes_.size()));
-  return compute_layout(width_px_, height_px_, title, axes_).axes[index].plot;
+  if (index >= axes().size())
+    throw std::out_of_range(fmt::format("viz: axes index {} out of range (figure has {})", index, axes().size()));
+  return compute_layout(width_px(), height_px(), title, axes()).axes[index].plot;
 }
 
 cv::Mat Figure::render() const {
-  const Layout L = compute_layout(width_px_, height_px_, title, axes_);
-  cv::Mat img(height_px_, width_px_, CV_8UC3, kWhite);
-  for (std::size_t i = 0; i < axes_.size(); ++i) draw_axes(img, axes_[i], L.axes[i], L);
+  const Layout L = compute_layout(width_px(), height_px(), title, axes());
+  cv::Mat img(height_px(), width_px(), CV_8UC3, kWhite);
+  for (std::size_t i = 0; i < axes().size(); ++i) draw_axes(img, axes()[i], L.axes[i], L);
   if (!title.empty()) {
     // Centred over the plot areas when there are any, else over the figure.
-    const double cx = L.axes.empty() ? width_px_ / 2.0 : L.axes[0].plot.x + L.axes[0].plot.width / 2.0;
+    const double cx = L.axes.empty() ? width_px() / 2.0 : L.axes[0].plot.x + L.axes[0].plot.width / 2.0;
     draw_text(img, title, cx, L.style.gap * 0.8, HAlign::Center, VAlign::Top, L.style.figure_title, kText);
   }
   return img;

@@ -1,5 +1,6 @@
 // The HTML report: one self-contained page (inline CSS, no script, no external URL).
 #include "dmbd/viz/report.hpp"
+#include "dmbd/base/file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -372,7 +373,7 @@ std::string render_report_html(const Report& report) {
 
 void write_report(const Report& report, const std::string& path) {
   const std::string html = render_report_html(report);
-  write_file_atomic(path, std::vector<unsigned char>(html.begin(), html.end()));
+  dmbd::write_file_atomic(path, html);
 }
 
 }  // namespace dmbd::viz

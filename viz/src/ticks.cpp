@@ -135,11 +135,6 @@ std::string format_tick(double value) {
   return mant + "e" + (negative ? "-" : "") + exp;
 }
 
-Color palette_color(std::size_t index) {
-  // matplotlib's tab10.
-  static constexpr Color kTab10[] = {{31, 119, 180}, {255, 127, 14},  {44, 160, 44},   {214, 39, 40},  {148, 103, 189},
-                                     {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
-  return kTab10[index % 10];
-}
+Color palette_color(std::size_t index) { return plot::palette_color(index); }
 
 }  // namespace dmbd::viz

@@ -1,17 +1,10 @@
 #pragma once
-// Errors shared by every module.
-#include <stdexcept>
+// The project's InputError (dmbd/base/error.hpp) and the expression parser's own kind.
 #include <string>
 
-namespace dmbd {
+#include "dmbd/base/error.hpp"
 
-// A mistake in what the user gave (a file, an expression, an option, a parameter).
-// The message is one line that names where (file:line:column, option, column) and
-// what was expected; the CLI prints it and exits with status 2.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace dmbd {
 
 namespace blocks {
 

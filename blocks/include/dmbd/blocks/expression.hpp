@@ -12,6 +12,9 @@
 // suffixes u/l/f, digit separators '. Names: parameters, the variable `s` or `z`,
 // the constants `pi` and `e`. Functions (constant arguments only): sqrt, exp, log,
 // log10, sin, cos, tan, abs, pow(a,b), min(a,b), max(a,b).
+// Limits (each a located ExpressionError): nesting (parentheses, calls, signs,
+// exponents) kMaxDepth levels, kMaxOperands numbers and names, and a rational result
+// of degree at most kMaxDegree.
 #include <map>
 #include <memory>
 #include <set>
@@ -32,6 +35,10 @@ struct Rational {
 class Expression {
  public:
   struct Node;
+  static constexpr int kMaxDepth = 200;
+  static constexpr int kMaxOperands = 10000;
+  static constexpr int kMaxDegree = 1000;
+
   // Throws ExpressionError (1-based column) on a syntax error.
   static Expression parse(std::string_view text);
 

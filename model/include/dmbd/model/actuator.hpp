@@ -31,6 +31,9 @@ struct LinkageGeometry {
   double moment_arm_m(double q) const;       // dx/dq
   double dmoment_arm_dq_m(double q) const;   // d2x/dq2
   double N_l(double q) const;                // dq/dx = 1 / moment_arm
+  // The joint angle whose length change x(q) - x(0) is dx, by Newton's method from
+  // `guess` (the firmware's lookup from actuator travel to joint angle, done exactly).
+  double angle_for_length_change(double dx, double guess) const;
 };
 
 // The robot's lookup table: N_l sampled on a uniform grid over the joint range,

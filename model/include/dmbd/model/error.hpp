@@ -1,14 +1,16 @@
 #pragma once
-#include <stdexcept>
 #include <string>
+
+#include "dmbd/base/error.hpp"
 
 namespace dmbd::model {
 
-// A user mistake in a model file (URDF, actuator table): the message is one line
-// naming the file, the line where known, and what was expected.
-class ModelError : public std::runtime_error {
+// A user mistake in a model file (URDF, actuator table), or a simulation that diverged:
+// the message is one line naming the file, the line where known, and what was expected
+// (or the time and the state).
+class ModelError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 }  // namespace dmbd::model

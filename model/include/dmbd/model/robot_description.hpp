@@ -103,8 +103,29 @@ RobotDescription load_urdf(const std::string& path, const UrdfOptions& options =
 RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
                             const std::string& label, const UrdfOptions& options = {});
 
-// Default-pose forward kinematics (every joint at 0, root at identity): X_WL per link.
+// Forward kinematics, the project's one routine for a description: X_WL for every link,
+// the root link at X_W_root and joint j at q[j] (robot.joints order): rotation about the
+// joint axis for revolute and continuous joints (rad), translation along it for
+// prismatic ones (m); fixed, floating and planar joints contribute X_PJ only (move a
+// floating base through X_W_root). Throws ModelError if q.size() != robot.joints.size().
+std::vector<Eigen::Isometry3d> link_frames(const RobotDescription& robot, const std::vector<double>& q,
+                                           const Eigen::Isometry3d& X_W_root = Eigen::Isometry3d::Identity());
+// Default-pose forward kinematics (every joint at 0, root at identity).
 std::vector<Eigen::Isometry3d> default_pose_link_frames(const RobotDescription& robot);
+// The centre of mass in world of the links at X_WL (zero if the robot has no mass).
+Eigen::Vector3d center_of_mass(const RobotDescription& robot, const std::vector<Eigen::Isometry3d>& X_WL);
+
+// Inertia about joint `joint`'s axis (kg m^2) of the links it moves (its child and
+// every link below), in the description's zero pose: rotation about the axis does not
+// change it; joints below are taken at zero (welded joints where they were welded).
+double subtree_axis_inertia(const RobotDescription& robot, int joint);
+
+// The same robot with a rigid mass bolted to `link`: mass_kg at com_L (link frame) with
+// principal moments inertia_kgm2 about axes parallel to the link frame's; the link's
+// mass, centre of mass and inertia become those of the union. Throws ModelError for an
+// unknown link or a non-positive mass.
+void add_payload(RobotDescription& robot, const std::string& link, double mass_kg, const Eigen::Vector3d& com_L,
+                 const Eigen::Vector3d& inertia_kgm2);
 
 // The same robot with some 1-dof joints welded at given positions (rad or m): each
 // becomes a Fixed joint whose origin includes the rotation (translation) by q about

@@ -17,14 +17,18 @@
 #include <nlohmann/json.hpp>
 
 #include "dmbd/sim/scenario.hpp"
-#include "dmbd/viz/plot.hpp"
+#include "dmbd/base/figure.hpp"
 
 namespace dmbd::sim {
 
 struct ExperimentResult {
   nlohmann::json metrics = nlohmann::json::object();
-  std::vector<std::pair<std::string, viz::Figure>> figures;  // file name in plots/ -> figure
+  // File name in plots/ -> the figure as data (report/ draws it; sim draws nothing).
+  std::vector<std::pair<std::string, plot::Figure>> figures;
   std::vector<std::string> notes;                            // one line each, for the report
+  // Outcomes the user should not miss (a run shorter than the experiment's windows):
+  // one line each, printed by dmbd simulate and listed in the report.
+  std::vector<std::string> warnings;
 };
 
 // Step metrics of y following a step of r at t_step, over the window [t_step, t_end)

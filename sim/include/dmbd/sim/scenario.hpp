@@ -129,6 +129,16 @@ struct Scenario {
 Scenario load_scenario(const std::string& path);
 
 // One run of one variant.
+// A controller run in fixed point: its predicted error bound on each output over the
+// run (codegen::predicted_error_bound, horizon = the run's steps up to 200000; the
+// bound holds while no saturation engages) against each output's range.
+struct FixedPointFacts {
+  std::string controller, output, unit;
+  int word_bits = 0;
+  double bound = 0;                            // +inf: none (an integrator in the loop)
+  double range = 0;                            // the output's largest magnitude (its declared range)
+};
+
 struct VariantResult {
   std::string name;
   std::vector<std::pair<std::string, std::string>> axes;
@@ -139,6 +149,8 @@ struct VariantResult {
   std::vector<long long> controller_steps;
   std::vector<unsigned long long> clamp_events;
   std::map<std::string, double> truth;         // the simulator's true values the experiment may need
+  std::vector<FixedPointFacts> fixed_point;    // per fixed-point controller output
+  std::vector<std::string> warnings;           // one line each (a fixed-point bound beyond its range)
 };
 
 struct RunOptions {
@@ -146,10 +158,18 @@ struct RunOptions {
   std::function<void(double)> on_progress;
 };
 
-// Builds the plant and the controllers of a variant and runs it. `on_frame(t, plant)`
-// is called at frame_rate_hz (0: never).
-VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options,
-                          double frame_rate_hz = 0,
-                          const std::function<void(double, const model::Plant&)>& on_frame = {});
+// The robot a variant simulates (its URDF with the welded joints, payloads and test
+// inertias applied) and the plant's options (base, actuators, contact, integration).
+// Throws InputError naming where in the scenario a joint, link or load is wrong.
+struct VariantPlant {
+  model::RobotDescription robot;
+  model::PlantOptions options;
+};
+VariantPlant variant_plant(const Scenario& s, const VariantSetup& v);
+// A joint's angle at t = 0: robot.initial, else robot.lock, else 0.
+double initial_angle(const RobotSetup& r, const std::string& joint);
+
+// Builds the plant and the controllers of a variant and runs it.
+VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options);
 
 }  // namespace dmbd::sim

@@ -1,8 +1,9 @@
 #pragma once
 // Multi-rate co-simulation: the continuous plant (dmbd::model::Plant, integrated between
-// events with error control or by its fixed step) and discrete controllers (loop programs run by
-// the codegen interpreters: the arithmetic of the generated code, in double, float or
-// fixed point) at their own rates, joined by a bus of named scalar signals.
+// events with error control or by its fixed step) and discrete controllers
+// (sim::Controller: loop programs run by the codegen interpreters, the arithmetic of the
+// generated code in double, float or fixed point, or any other) at their own rates,
+// joined by a bus of named scalar signals.
 //
 // At every controller tick t_k = k / rate the controller samples its inputs from the bus
 // (sensors are read from the plant at that instant, references evaluated at t_k), runs
@@ -31,7 +32,9 @@
 // only, per actuator: J.force_true (N), J.current_applied (A, after the drive's limit),
 // J.i2t (A^2 s, the integral of the applied current squared since t = 0: exact, the
 // current is held between events), and the thermal nodes J.T_winding, J.T_housing
-// (degC; _cooled and _uncooled with cooling Both). A
+// (degC; _cooled and _uncooled with cooling Both); and with contact, the force on the
+// robot at each collision sphere, contact.K.fx/fy/fz (N, world; K counts the
+// description's collision spheres, links in order). A
 // reference may also drive a command directly ("l_knee.current": a current chirp for
 // system identification): it is then held from log tick to log tick.
 #include <cstdint>
@@ -42,26 +45,24 @@
 
 #include <Eigen/Core>
 
-#include "dmbd/codegen/fixed.hpp"
-#include "dmbd/codegen/loop_program.hpp"
+#include "dmbd/base/error.hpp"
 #include "dmbd/model/plant.hpp"
 #include "dmbd/model/thermal.hpp"
+#include "dmbd/sim/controller.hpp"
 #include "dmbd/sim/log.hpp"
 #include "dmbd/sim/signals.hpp"
 
 namespace dmbd::sim {
 
-enum class Scalar { Double, Float, Fixed };
-
+// A controller on the bus: its ports bound to bus signals (in its port order; an empty
+// output name publishes "<name>.<port>"), and its computation delay: an output computed
+// from the inputs sampled at t_k is applied at t_k + delay_s (0 <= delay <= one period).
 struct ControllerSpec {
   std::string name;
-  std::shared_ptr<const codegen::LoopProgram> program;  // lowered at rate_hz
-  Scalar scalar = Scalar::Double;
-  std::shared_ptr<const codegen::FixedProgram> fixed;   // when scalar == Fixed
-  double rate_hz = 1000;
-  double delay_s = 0;                 // computation delay: output applied this long after sampling
-  std::vector<std::string> inputs;    // bus signal per program input
-  std::vector<std::string> outputs;   // bus signal per program output
+  std::shared_ptr<Controller> controller;
+  double delay_s = 0;
+  std::vector<std::string> inputs;    // bus signal per controller input
+  std::vector<std::string> outputs;   // bus signal per controller output
   // Where the controller and each input binding were written ("file:line:col"; empty, or
   // input_where shorter than inputs, when unknown): errors about them start with it.
   std::string where;
@@ -91,7 +92,6 @@ struct SimulationSpec {
   std::vector<ForceSpec> forces;
   double duration_s = 1;
   double log_rate_hz = 1000;
-  double frame_rate_hz = 0;           // 0: no frame callbacks
   bool sensor_noise = false;          // off: exact readings (no quantisation, no noise)
   uint64_t seed = 1;
   double force_noise_N = 0;           // white noise added to J.force when sensor_noise
@@ -103,9 +103,9 @@ struct SimulationSpec {
 
 // Thrown when the run diverges (NaN, integrator failure, runaway); the message names
 // the time and the state ("simulation diverged at t = 0.731 s: ... (l_knee q = ...)").
-class DivergenceError : public std::runtime_error {
+class DivergenceError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 class Simulation {
@@ -118,10 +118,9 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // Runs from the plant's current state for spec.duration_s. `on_frame` is called at
-  // every frame time (t = 0 included) with the plant in its state at that time;
+  // Runs from the plant's current state for spec.duration_s;
   // `on_progress` with the fraction done, about every 1 % of the run.
-  Log run(const std::function<void(double)>& on_frame = {}, const std::function<void(double)>& on_progress = {});
+  Log run(const std::function<void(double)>& on_progress = {});
 
   // Bus signal names (the log's columns follow them).
   std::vector<std::string> signal_names() const;

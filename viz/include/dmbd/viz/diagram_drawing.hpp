@@ -1,14 +1,34 @@
 #pragma once
 // `dmbd draw`: a block diagram as a picture. Blocks are labelled boxes, connections
 // arrows; the layout is layered (Sugiyama style): inputs on the left, outputs on the
-// right, feedback connections routed in lanes below the blocks.
+// right, feedback connections routed in lanes below the blocks. viz draws a plain
+// description of the diagram (apps/ builds it from a diagrams::Diagram): it does not
+// know the diagram module.
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
-#include "dmbd/diagrams/diagram.hpp"
-
 namespace dmbd::viz {
+
+// A block diagram to draw.
+struct DiagramPicture {
+  std::string title;
+  std::vector<std::string> inputs, outputs;  // the diagram's inputs and outputs, e.g. "q_d [rad]"
+  struct Block {
+    std::string name, kind, summary;          // e.g. "Kd", "tf", "D_q*s/(tau_q*s + 1)"
+    // One per port; written beside the ports of a block that has several (a sum's signs).
+    std::vector<std::string> input_labels, output_labels;
+  };
+  std::vector<Block> blocks;
+  // What drives a block input or a diagram output: a diagram input (block -1, port its
+  // index) or the output port of a block.
+  struct Source {
+    int block = -1;
+    int port = 0;
+  };
+  std::vector<std::vector<Source>> drivers;  // per block, per input port
+  std::vector<Source> output_drivers;        // per diagram output
+};
 
 // Where each node of a diagram goes (exposed for tests).
 struct DiagramLayout {
@@ -28,12 +48,14 @@ struct DiagramLayout {
   std::vector<Node> nodes;
   std::vector<Edge> edges;
   int layers = 0;
+  std::vector<int> column_x, column_w;  // each layer's column: left edge and width (pixels)
   cv::Size size;
 };
 
-DiagramLayout layout_diagram(const diagrams::Diagram& d);
-cv::Mat draw_diagram(const diagrams::Diagram& d);
+// Throws std::invalid_argument when drivers and blocks (or outputs) do not match.
+DiagramLayout layout_diagram(const DiagramPicture& d);
+cv::Mat draw_diagram(const DiagramPicture& d);
 // Render and write a PNG atomically.
-void save_diagram_png(const diagrams::Diagram& d, const std::string& path);
+void save_diagram_png(const DiagramPicture& d, const std::string& path);
 
 }  // namespace dmbd::viz

@@ -21,61 +21,21 @@
 
 #include <opencv2/core.hpp>
 
+#include "dmbd/base/figure.hpp"
+
 namespace dmbd::viz {
 
-// 8-bit RGB. {0, 0, 0} in a Series means "automatic" (use {1, 1, 1} for black).
-struct Color {
-  unsigned char r = 0, g = 0, b = 0;
-};
+// The description types are dmbd::plot's (dmbd/base/figure.hpp); viz draws them.
+using Color = plot::Color;
+using Scale = plot::Scale;
+using Series = plot::Series;
+using Axes = plot::Axes;
 
-enum class Scale { Linear, Log };
-
-struct Series {
-  std::string label;         // empty: not in legend
-  std::vector<double> x, y;  // same length; NaN/inf points break the line
-  Color color{};             // {0,0,0} => auto colour from a palette (tab10-like) by index
-  double width_px = 2.0;
-  bool dashed = false;
-  bool markers = false;  // draw small circles at the points
-};
-
-struct Axes {
-  std::string title, x_label, y_label;  // labels carry units, e.g. "Frequency (Hz)"
-  Scale x_scale = Scale::Linear, y_scale = Scale::Linear;
-  // Automatic when empty: nice round limits with a small margin on linear axes,
-  // whole decades on log axes (non-positive values are ignored there).
-  std::optional<std::pair<double, double>> x_limits, y_limits;
-  std::vector<Series> series;
-  std::vector<double> h_lines, v_lines;  // thin dashed reference lines (e.g. -180 deg, a crossover frequency)
-  bool legend = true;  // in the top-right corner, or the first of top-left, bottom-right, bottom-left covering fewer series pixels
-
-  // Additions.
-  // Optional text beside the reference line of the same index (empty or missing:
-  // none), put where it hides no series, other note, line or the legend if it can:
-  // h-line text above or below the line at its right, else left, end; v-line text
-  // right or left of the line near the top, else near the bottom.
-  std::vector<std::string> h_line_labels, v_line_labels;
-  // Linear axes only: major ticks at multiples of this step (doubled until they fit)
-  // instead of the automatic 1-2-5 steps; e.g. 45 for a phase axis in degrees.
-  std::optional<double> x_tick_step, y_tick_step;
-  // False hides the numbers under the x axis (the ticks and grid stay): for the upper
-  // axes of a stack that shares its x axis with the one below.
-  bool x_tick_labels = true;
-};
-
-class Figure {
+// A plot description that can draw itself.
+class Figure : public plot::Figure {
  public:
-  // Throws std::invalid_argument unless both sizes are at least 64 px.
-  Figure(int width_px = 1000, int height_px = 700);
-
-  // Axes are stacked vertically, equal heights, sharing the figure width. The
-  // returned reference is invalidated by a later add_axes() beyond 8 axes; index
-  // axes() when in doubt.
-  Axes& add_axes();
-  std::vector<Axes>& axes();
-  const std::vector<Axes>& axes() const;
-
-  std::string title;  // optional figure title on top
+  using plot::Figure::Figure;
+  explicit Figure(const plot::Figure& description) : plot::Figure(description) {}
 
   // BGR 8-bit image of width_px x height_px. Throws std::invalid_argument when a
   // series has x and y of different lengths, or when given limits are not finite,
@@ -83,20 +43,13 @@ class Figure {
   cv::Mat render() const;
 
   // Write a PNG atomically: encode in memory, write "<path>.tmp", then rename.
-  // Throws std::runtime_error naming the path on failure (nothing is left behind).
+  // Throws OutputError naming the path on failure (nothing is left behind).
   void save_png(const std::string& path) const;
 
-  // Additions.
-  int width_px() const { return width_px_; }
-  int height_px() const { return height_px_; }
   // Pixel rectangle of the plot area (inside the axis box) of axes()[index] as
   // render() lays it out; the data limits map onto its first and last pixel
   // rows/columns. Throws std::out_of_range for a bad index.
   cv::Rect plot_area(std::size_t index) const;
-
- private:
-  int width_px_, height_px_;
-  std::vector<Axes> axes_;
 };
 
 // Convenience used by `dmbd analyze`: magnitude (dB) over phase (deg) on a shared
@@ -132,8 +85,5 @@ std::pair<double, double> nice_limits(double lo, double hi, Scale scale);
 Color palette_color(std::size_t index);
 // PNG bytes of an image (throws std::runtime_error if OpenCV cannot encode it).
 std::vector<unsigned char> encode_png(const cv::Mat& image);
-// Write bytes atomically to path via "<path>.tmp" and a rename; throws
-// std::runtime_error naming the path on failure and removes the .tmp file.
-void write_file_atomic(const std::string& path, const std::vector<unsigned char>& bytes);
 
 }  // namespace dmbd::viz

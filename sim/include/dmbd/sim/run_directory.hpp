@@ -1,0 +1,58 @@
+#pragma once
+// A run directory: what a scenario's simulation leaves for everything after it (report/,
+// `dmbd report`, scripts): log.csv, every signal of every variant with its unit
+// (combined_csv below), and metrics.json, the experiment's metrics plus, per run, its
+// wall time, real-time factor, step counts and the simulator's true values, and the
+// scenario file it came from. sim writes it and reads it back; it draws nothing
+// (docs/architecture.md). Files are written atomically (dmbd/base/file.hpp).
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "dmbd/sim/experiments.hpp"
+#include "dmbd/sim/scenario.hpp"
+
+namespace dmbd::sim {
+
+struct ScenarioRunOptions {
+  std::optional<double> duration_s;            // overrides the scenario's durations
+  // Progress of the whole scenario (0..1) and the variant running.
+  std::function<void(double, const std::string&)> on_progress;
+};
+
+struct ScenarioRun {
+  Scenario scenario;
+  std::vector<VariantResult> runs;
+  ExperimentResult experiment;                 // metrics and figures (as data)
+  nlohmann::json metrics;                      // as in metrics.json
+  std::vector<std::string> files;              // written, relative to the directory
+};
+
+// Runs every variant and writes DIR/log.csv and DIR/metrics.json (DIR created if
+// missing). Throws InputError: scenario mistakes found while building a variant and
+// divergences name the scenario file and the variant; a folder or file that cannot be
+// written is an OutputError.
+ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const ScenarioRunOptions& options = {});
+
+// A run directory read back: the scenario reloaded from the file metrics.json names,
+// each variant's log split out of log.csv, its run figures from metrics.json, and the
+// experiment evaluated again on those logs. The logs hold every value to 17
+// significant digits, so the metrics and figures are the run's own. Throws InputError
+// naming the file that is missing or malformed.
+ScenarioRun read_run(const std::string& dir);
+
+// The log of several variants as one table: columns "variant/signal", one row per
+// instant any run logged (variants may log at different rates or for different
+// durations); a run's cells are empty at an instant it did not log. A single variant
+// keeps plain names.
+std::string combined_csv(const std::vector<VariantResult>& runs);
+// The inverse: the logs of the named variants from combined_csv's text.
+std::vector<Log> split_csv(const std::string& csv, const std::vector<std::string>& variants, const std::string& file);
+
+// JSON cannot hold inf or NaN: they become the strings "inf", "-inf", "NaN".
+nlohmann::json finite_json(const nlohmann::json& j);
+
+}  // namespace dmbd::sim

@@ -1,0 +1,107 @@
+#include "variant_controllers.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "dmbd/base/error.hpp"
+#include "dmbd/codegen/fixed.hpp"
+#include "dmbd/codegen/loop_program.hpp"
+#include "dmbd/diagrams/diagram.hpp"
+
+namespace dmbd::sim {
+
+namespace {
+
+using Ranges = std::vector<std::pair<double, double>>;
+
+Ranges input_ranges(const diagrams::Diagram& d) {
+  Ranges r;
+  for (const auto& in : d.inputs())
+    for (int k = 0; k < in.size; ++k) r.push_back(in.range.value_or(std::make_pair(-1.0, 1.0)));
+  return r;
+}
+
+// Program ports in the diagram's order -> bus signals (and where each was bound).
+std::vector<std::string> bind_ports(const ControllerSetup& c, const std::vector<diagrams::SignalSpec>& ports, bool inputs,
+                              const std::string& cwhere, std::vector<std::string>* port_where) {
+  const auto& given = inputs ? c.inputs : c.outputs;
+  const auto& given_where = inputs ? c.input_where : c.output_where;
+  const auto where_of = [&](std::size_t k) { return k < given_where.size() && !given_where[k].empty() ? given_where[k] : cwhere; };
+  std::vector<std::string> out;
+  for (const auto& port : ports) {
+    const auto it = std::find_if(given.begin(), given.end(), [&](const auto& g) { return g.first == port.name; });
+    if (it == given.end()) {
+      if (!inputs) {
+        out.emplace_back();  // published as "<controller>.<port>"
+        continue;
+      }
+      throw InputError(cwhere + ": controller '" + c.name + "': input '" + port.name + "' of " + c.diagram + " is not bound");
+    }
+    out.push_back(it->second);
+    if (port_where) port_where->push_back(where_of(static_cast<std::size_t>(it - given.begin())));
+  }
+  for (std::size_t k = 0; k < given.size(); ++k)
+    if (std::none_of(ports.begin(), ports.end(), [&](const auto& p) { return p.name == given[k].first; }))
+      throw InputError(where_of(k) + ": controller '" + c.name + "': " + c.diagram + " has no " + (inputs ? "input" : "output") +
+                       " '" + given[k].first + "'");
+  return out;
+}
+
+std::vector<FixedPointFacts> facts(const ControllerSetup& c, const diagrams::Diagram& d, const codegen::LoopProgram& p,
+                                   const codegen::FixedProgram& f, double duration_s) {
+  const int horizon = static_cast<int>(std::clamp(std::ceil(duration_s * c.rate_hz), 1.0, 200000.0));
+  const codegen::ErrorBound b = codegen::predicted_error_bound(p, f, input_ranges(d), horizon);
+  std::vector<FixedPointFacts> out;
+  std::size_t k = 0;
+  for (const auto& o : d.outputs())
+    for (int i = 0; i < o.size; ++i, ++k) {
+      const double range = o.range ? std::max(std::abs(o.range->first), std::abs(o.range->second)) : std::nan("");
+      out.push_back({c.name, o.name, o.unit, c.word_bits, k < b.over_horizon.size() ? b.over_horizon[k] : std::nan(""), range});
+    }
+  return out;
+}
+
+}  // namespace
+
+VariantController variant_controller(const Scenario& s, const ControllerSetup& c, double duration_s) {
+  blocks::ParameterMap overrides;
+  for (const auto& [k, val] : c.parameters) overrides[k] = val;
+  const auto d = diagrams::Diagram::load(c.diagram, overrides);
+  codegen::LowerOptions lo;
+  lo.rate_hz = c.rate_hz;
+  if (d->discretization()) lo.method = *d->discretization();
+  auto program = std::make_shared<codegen::LoopProgram>(codegen::lower(*d, lo));
+  const std::string cwhere = c.where.empty() ? s.file : c.where;
+  VariantController vc;
+  std::shared_ptr<const codegen::FixedProgram> fixed;
+  if (c.scalar == Scalar::Fixed) {
+    fixed = std::make_shared<codegen::FixedProgram>(codegen::make_fixed(*program, input_ranges(*d), c.word_bits));
+    vc.fixed_point = facts(c, *d, *program, *fixed, duration_s);
+  }
+  ControllerSpec& cs = vc.spec;
+  cs.name = c.name;
+  cs.delay_s = c.delay_s;
+  cs.where = cwhere;
+  try {
+    cs.controller = loop_program_controller(program, c.scalar, fixed);
+  } catch (InputError& e) {
+    e.prepend(cwhere + ": controller '" + c.name + "': ");
+    throw;
+  }
+  cs.inputs = bind_ports(c, d->inputs(), true, cwhere, &cs.input_where);
+  cs.outputs = bind_ports(c, d->outputs(), false, cwhere, nullptr);
+  return vc;
+}
+
+void fixed_point_warnings(VariantResult& r) {
+  for (const auto& f : r.fixed_point)
+    if (!(f.bound <= f.range))  // a bound beyond the range, or none (inf)
+      r.warnings.push_back(fmt::format("variant '{}': controller '{}' in {}-bit fixed point: the predicted error bound on its output '{}' "
+                                       "over the run, {:.4g} {}, is not within its range (+-{:.4g} {}): its output may be wrong by more "
+                                       "than it can hold",
+                                       r.name, f.controller, f.word_bits, f.output, f.bound, f.unit, f.range, f.unit));
+}
+
+}  // namespace dmbd::sim
