@@ -10,6 +10,7 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/zpk.hpp"
+#include "dmbd/diagrams/linearize.hpp"
 #include "dmbd/viz/plot.hpp"
 
 namespace dmbd::apps {
@@ -81,6 +82,40 @@ json max_real_pole(const std::vector<b::Complex>& poles, double ts) {
   double m = -INFINITY;
   for (const b::Complex& p : poles) m = std::max(m, (ts > 0.0 ? std::log(p) / ts : p).real());
   return number(m);
+}
+
+DiagramTransfer diagram_transfer(const diagrams::Diagram& d, const std::string& from, const std::string& to,
+                                 const std::string& loop_at) {
+  const b::SparseStateSpace ss =
+      loop_at.empty() ? diagrams::linearize_sparse(d, from, to) : diagrams::loop_transfer_sparse(d, loop_at);
+  if (ss.num_inputs() != 1 || ss.num_outputs() != 1)
+    throw InputError("analysis needs scalar signals: the model has " + std::to_string(ss.num_inputs()) + " inputs and " +
+                     std::to_string(ss.num_outputs()) + " outputs");
+  b::Siso g = b::Siso::from_state_space(ss);
+  const b::Stability internal = b::stability(g.modes(), ss.is_discrete());
+  return {std::move(g), internal, ss.num_states()};
+}
+
+void add_interconnection(json& report, const DiagramTransfer& t) {
+  // `stable`: the analysed transfer; `internally_stable`: every mode of the
+  // interconnection, including those the two signals do not see.
+  report["internally_stable"] = t.internal == b::Stability::Stable;
+  report["internal_stability"] = b::to_string(t.internal);
+  report["states"] = t.states;
+  report["factors"] = t.transfer.factors();
+}
+
+json sweep_point(const DiagramTransfer& t) {
+  const b::Zpk& z = t.transfer.zpk();
+  const b::Stability st = b::stability(z);
+  const std::vector<b::Complex> poles = z.all_poles();
+  return {{"stable", st == b::Stability::Stable},
+          {"stability", b::to_string(st)},
+          {"internally_stable", t.internal == b::Stability::Stable},
+          {"poles", roots_json(poles)},
+          {"max_real_pole", max_real_pole(poles, z.ts())},
+          {"dc_gain", number(z.dc_gain())},
+          {"bandwidth_hz", hz(b::bandwidth(z))}};
 }
 
 namespace {

@@ -9,6 +9,8 @@
 
 #include "dmbd/blocks/discretize.hpp"
 #include "dmbd/blocks/siso.hpp"
+#include "dmbd/blocks/zpk.hpp"
+#include "dmbd/diagrams/diagram.hpp"
 
 namespace dmbd::apps {
 
@@ -21,6 +23,24 @@ struct AnalyzeRequest {
   std::string bode_png, step_png;        // plots to write (empty: none)
   std::string title;                     // plot titles
 };
+
+// A diagram's transfer between two signals (`loop_at` empty) or its loop transfer at
+// `loop_at`, taken apart in state space (blocks::Siso), with the verdict on every mode
+// of the interconnection (`internal`: those the transfer does not see included).
+// InputError unless both signals are scalar.
+struct DiagramTransfer {
+  blocks::Siso transfer;
+  blocks::Stability internal;
+  int states;
+};
+DiagramTransfer diagram_transfer(const diagrams::Diagram& d, const std::string& from, const std::string& to,
+                                 const std::string& loop_at);
+// The report's keys about the interconnection: internally_stable, internal_stability,
+// states, factors.
+void add_interconnection(nlohmann::json& report, const DiagramTransfer& t);
+// One point of --sweep: stable, stability, internally_stable, poles, max_real_pole,
+// dc_gain, bandwidth_hz.
+nlohmann::json sweep_point(const DiagramTransfer& t);
 
 // Computes every figure of the report (docs/analyze.md). Throws InputError when the
 // request does not fit the system (an improper TF where a step response or c2d is

@@ -21,8 +21,6 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/expression.hpp"
 #include "dmbd/blocks/frequency.hpp"
-#include "dmbd/blocks/siso.hpp"
-#include "dmbd/blocks/zpk.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/codegen/emit.hpp"
 #include "dmbd/codegen/fixed.hpp"
@@ -434,41 +432,6 @@ struct AnalyzeArgs {
   std::string freq, freq_range, step, c2d, ts, prewarp, bode, step_plot;
 };
 
-// The diagram's model between the two signals, or its loop transfer.
-b::SparseStateSpace diagram_model(const dmbd::diagrams::Diagram& d, const AnalyzeArgs& a) {
-  const b::SparseStateSpace ss = a.loop_at.empty() ? dmbd::diagrams::linearize_sparse(d, a.from, a.to)
-                                                   : dmbd::diagrams::loop_transfer_sparse(d, a.loop_at);
-  if (ss.num_inputs() != 1 || ss.num_outputs() != 1)
-    throw InputError("analysis needs scalar signals: the model has " + std::to_string(ss.num_inputs()) + " inputs and " +
-                     std::to_string(ss.num_outputs()) + " outputs");
-  return ss;
-}
-
-// --sweep: the diagram re-evaluated at each value.
-nlohmann::json sweep_report(const AnalyzeArgs& a, const b::ParameterMap& params, const std::string& name,
-                            const std::vector<double>& values) {
-  nlohmann::json sw = nlohmann::json::array();
-  for (double v : values) {
-    b::ParameterMap p = params;
-    p[name] = v;
-    const auto dv = dmbd::diagrams::Diagram::load(a.diagram, p);
-    const b::SparseStateSpace ss = diagram_model(*dv, a);
-    const b::Siso g = b::Siso::from_state_space(ss);
-    const b::Stability st = b::stability(g.zpk());
-    const auto poles = g.zpk().all_poles();
-    const auto bw = b::bandwidth(g.zpk());
-    sw.push_back({{"value", v},
-                  {"stable", st == b::Stability::Stable},
-                  {"stability", b::to_string(st)},
-                  {"internally_stable", b::stability(ss.poles(), dv->is_discrete()) == b::Stability::Stable},
-                  {"poles", dmbd::apps::roots_json(poles)},
-                  {"max_real_pole", dmbd::apps::max_real_pole(poles, g.ts())},
-                  {"dc_gain", g.zpk().dc_gain() ? nlohmann::json(*g.zpk().dc_gain()) : nlohmann::json(nullptr)},
-                  {"bandwidth_hz", bw ? nlohmann::json(*bw / (2 * M_PI)) : nlohmann::json(nullptr)}});
-  }
-  return sw;
-}
-
 int run_analyze(const AnalyzeArgs& a) {
   const b::ParameterMap params = parse_params(a.params);
 
@@ -481,10 +444,9 @@ int run_analyze(const AnalyzeArgs& a) {
     if (!(ts > 0.0) || !std::isfinite(ts)) throw InputError("--ts '" + a.ts + "': the sample time must be > 0 s");
   }
   bool discrete = false;
-  std::optional<b::Siso> model;
+  std::optional<b::Siso> tf;
   std::shared_ptr<const dmbd::diagrams::Diagram> diagram;
-  b::Stability internal = b::Stability::Stable;
-  int states = 0;
+  std::optional<dmbd::apps::DiagramTransfer> dt;
   if (a.tf_given) {
     if (!a.from.empty() || !a.to.empty() || !a.loop_at.empty() || !a.sweep.empty())
       throw InputError("--from, --to, --loop-at and --sweep apply to a diagram, not to --tf");
@@ -501,7 +463,7 @@ int run_analyze(const AnalyzeArgs& a) {
     if (!a.ts.empty() && !discrete && a.c2d.empty())
       throw InputError("--ts is used with --c2d or with an expression in z");
     try {
-      model = b::Siso::from_tf(b::TransferFunction::parse(a.tf, params, discrete ? ts : 0.0));
+      tf = b::Siso::from_tf(b::TransferFunction::parse(a.tf, params, discrete ? ts : 0.0));
     } catch (const b::ExpressionError& e) {
       throw InputError("--tf '" + a.tf + "': " + e.what());
     } catch (const InputError& e) {
@@ -516,10 +478,8 @@ int run_analyze(const AnalyzeArgs& a) {
     diagram = dmbd::diagrams::Diagram::load(a.diagram, params);
     discrete = diagram->is_discrete();
     if (!a.ts.empty() && a.c2d.empty()) throw InputError("--ts is used with --c2d");
-    const b::SparseStateSpace ss = diagram_model(*diagram, a);
-    internal = b::stability(ss.poles(), discrete);
-    states = ss.num_states();
-    model = b::Siso::from_state_space(ss);
+    dt = dmbd::apps::diagram_transfer(*diagram, a.from, a.to, a.loop_at);
+    tf = dt->transfer;
     req.title = a.loop_at.empty() ? diagram->name() + ": " + a.from + " -> " + a.to : diagram->name() + ": loop at " + a.loop_at;
   }
   if (discrete && !a.c2d.empty()) throw InputError("--c2d: the system is already discrete");
@@ -535,7 +495,7 @@ int run_analyze(const AnalyzeArgs& a) {
       throw InputError("--prewarp '" + a.prewarp + "': expected a frequency between 0 and the Nyquist frequency " +
                        std::to_string(0.5 / ts) + " Hz");
   }
-  const b::Siso& g = *model;
+  const b::Siso& g = *tf;
   if (discrete) ts = g.ts();
 
   if (!a.freq.empty() && !a.freq_range.empty()) throw InputError("give either --freq or --freq-range, not both");
@@ -598,12 +558,7 @@ int run_analyze(const AnalyzeArgs& a) {
   nlohmann::json report = dmbd::apps::analyze(g, req);
   if (diagram) {
     report["diagram"] = a.diagram;
-    // `stable`: the analysed transfer; `internally_stable`: every mode of the
-    // interconnection, including those the two signals do not see.
-    report["internally_stable"] = internal == b::Stability::Stable;
-    report["internal_stability"] = b::to_string(internal);
-    report["states"] = states;
-    report["factors"] = g.factors();
+    dmbd::apps::add_interconnection(report, *dt);
     if (a.loop_at.empty()) {
       report["from"] = a.from;
       report["to"] = a.to;
@@ -618,8 +573,17 @@ int run_analyze(const AnalyzeArgs& a) {
     report["parameters"] = params;
   }
   if (!sweep_values.empty()) {
+    nlohmann::json sw = nlohmann::json::array();
+    for (double v : sweep_values) {
+      b::ParameterMap p = params;
+      p[sweep_name] = v;
+      const auto dv = dmbd::diagrams::Diagram::load(a.diagram, p);
+      nlohmann::json point = dmbd::apps::sweep_point(dmbd::apps::diagram_transfer(*dv, a.from, a.to, a.loop_at));
+      point["value"] = v;
+      sw.push_back(point);
+    }
     report["sweep_parameter"] = sweep_name;
-    report["sweep"] = sweep_report(a, params, sweep_name, sweep_values);
+    report["sweep"] = sw;
   }
   dmbd::apps::write_plots(g, report, req);
   if (a.json) {

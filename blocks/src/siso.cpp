@@ -86,6 +86,7 @@ struct Chain {
   Entries c;
   double d;
   std::vector<int> starts;  // first state of each group, then the number of states
+  double ts;
 };
 
 struct Cut {
@@ -170,41 +171,21 @@ std::vector<Complex> matching(const std::vector<Complex>& full, const std::vecto
   return out;
 }
 
-// Zpk of num / prod(x - p).
-Zpk zpk_of(const Polynomial& num, const std::vector<Complex>& poles, double ts) {
-  if (num.is_zero()) return Zpk(0.0, 0, {}, {}, ts);
-  const double x0 = ts > 0.0 ? 1.0 : 0.0;
-  const auto [rest, zeros_at_x0] = num.without_root(x0);
-  double log_k = std::log(std::abs(rest(x0))), sign = rest(x0) < 0.0 ? -1.0 : 1.0;
-  int poles_at_x0 = 0;
-  std::vector<Complex> others;
-  for (const Complex& p : poles) {
-    if (p == Complex(x0, 0.0)) {
-      ++poles_at_x0;
-      continue;
-    }
-    others.push_back(p);
-    log_k -= std::log(std::abs(x0 - p));
-    if (p.imag() == 0.0 && x0 - p.real() < 0.0) sign = -sign;
-  }
-  return Zpk(sign * std::exp(log_k), zeros_at_x0 - poles_at_x0, rest.roots(), others, ts);
-}
-
 // One factor: poles by groups (exact integrators), hidden modes by the Krylov rank test
-// of StateSpace::minimal, the numerator by interpolation over the remaining poles.
+// of StateSpace::minimal, then zeros and gain of what remains by deflation (siso.hpp).
 Zpk factor_zpk(const StateSpace& s, std::vector<Complex>& hidden) {
   if (s.num_states() == 0) return Zpk(s.d()(0, 0), 0, {}, {}, s.ts());
   std::vector<Complex> poles = s.poles();
   const StateSpace mn = s.minimal(1e-10);
   if (mn.num_states() < s.num_states()) poles = matching(poles, mn.poles(), hidden);
-  const Zpk z = zpk_of(mn.numerator(poles), poles, s.ts());
+  const Zpk z = zpk_by_deflation(mn, poles);
   if (z.is_zero()) hidden.insert(hidden.end(), poles.begin(), poles.end());
   return z;
 }
 
 // The kept states' chain: group order, b and c gathered.
 Chain make_chain(const SparseStateSpace& r, const std::vector<int>& group_sizes) {
-  Chain ch{r.a(), Vector::Zero(r.num_states()), {}, r.d()(0, 0), {}};
+  Chain ch{r.a(), Vector::Zero(r.num_states()), {}, r.d()(0, 0), {}, r.ts()};
   for (int i = 0; i < r.num_states(); ++i)
     for (SparseMatrix::InnerIterator it(r.b(), i); it; ++it) ch.b(i) = it.value();
   for (SparseMatrix::InnerIterator it(r.c(), 0); it; ++it) ch.c.emplace_back(static_cast<int>(it.col()), it.value());
@@ -219,7 +200,8 @@ Chain make_chain(const SparseStateSpace& r, const std::vector<int>& group_sizes)
 }
 
 // The factor between cuts p and q.
-StateSpace factor_between(const Chain& ch, const Cut& p, const Cut& q, double ts) {
+StateSpace factor_between(const Chain& ch, const Cut& p, const Cut& q) {
+  const double ts = ch.ts;
   std::vector<int> states;
   for (int i = p.s; i < q.s; ++i) states.push_back(i);
   const auto n = static_cast<Eigen::Index>(states.size());
@@ -241,7 +223,48 @@ StateSpace factor_between(const Chain& ch, const Cut& p, const Cut& q, double ts
   return StateSpace(bal.a(), bal.b() * sigma, bal.c() / sigma, d, ts);
 }
 
+// The product of the factors between consecutive cuts, zero/pole pairs cancelled
+// (kCancelTolerance; exactly at the boundary point, where a zero of one factor and a
+// pole of another meet in m). The poles taken out go to `hidden`.
+Zpk series_product(const Chain& ch, const std::vector<Cut>& cuts, std::vector<Complex>& hidden) {
+  const double ts = ch.ts;
+  if (cuts.front().gamma.empty()) return Zpk(0.0, 0, {}, {}, ts);
+  Zpk z(cuts.front().gamma.front().second, 0, {}, {}, ts);
+  int boundary_poles = 0, boundary_zeros = 0;
+  for (size_t k = 1; k < cuts.size(); ++k) {
+    if (cuts[k].gamma.empty()) return Zpk(0.0, 0, {}, {}, ts);
+    const Zpk f = factor_zpk(factor_between(ch, cuts[k - 1], cuts[k]), hidden);
+    if (f.is_zero()) return f;
+    (f.m() < 0 ? boundary_poles : boundary_zeros) += std::abs(f.m());
+    z = z * f;
+  }
+  hidden.insert(hidden.end(), static_cast<size_t>(std::min(boundary_poles, boundary_zeros)),
+                Complex(ts > 0.0 ? 1.0 : 0.0, 0.0));
+  return z.cancelled(Siso::kCancelTolerance, &hidden);
+}
+
 }  // namespace
+
+Zpk zpk_by_interpolation(const StateSpace& sys, const std::vector<Complex>& poles) {
+  const Polynomial num = sys.numerator(poles);
+  const double ts = sys.ts();
+  if (num.is_zero()) return Zpk(0.0, 0, {}, {}, ts);
+  const double x0 = ts > 0.0 ? 1.0 : 0.0;
+  const auto [rest, zeros_at_x0] = num.without_root(x0);
+  double log_k = std::log(std::abs(rest(x0))), sign = rest(x0) < 0.0 ? -1.0 : 1.0;
+  int poles_at_x0 = 0;
+  std::vector<Complex> others;
+  for (const Complex& p : poles) {
+    if (p == Complex(x0, 0.0)) {
+      ++poles_at_x0;
+      continue;
+    }
+    others.push_back(p);
+    log_k -= std::log(std::abs(x0 - p));
+    if (p.imag() == 0.0 && x0 - p.real() < 0.0) sign = -sign;
+  }
+  return Zpk(sign * std::exp(log_k), zeros_at_x0 - poles_at_x0, rest.roots(), others, ts);
+}
 
 Siso Siso::from_tf(const TransferFunction& g) {
   Siso s;
@@ -283,13 +306,9 @@ Siso Siso::from_state_space(const SparseStateSpace& sys) {
   const SparseStateSpace r = sys.restricted(kept);
   const Chain ch = make_chain(r, sizes);
   const std::vector<Cut> cuts = rank_one_cuts(ch);
-  Zpk z(cuts.front().gamma.empty() ? 0.0 : cuts.front().gamma.front().second, 0, {}, {}, sys.ts());
-  for (size_t k = 1; k < cuts.size() && !z.is_zero(); ++k) {
-    if (cuts[k].gamma.empty()) z = Zpk(0.0, 0, {}, {}, sys.ts());
-    if (!z.is_zero()) z = z * factor_zpk(factor_between(ch, cuts[k - 1], cuts[k], sys.ts()), out.hidden_);
-  }
   out.factors_ = static_cast<int>(cuts.size()) - 1;
-  out.zpk_ = z.is_zero() ? z : z.cancelled(kCancelTolerance, &out.hidden_);
+  out.zpk_ = series_product(ch, cuts, out.hidden_);
+  if (out.zpk_.is_zero()) out.hidden_ = out.modes_;
   out.tf_ = out.zpk_.to_tf();
   out.realisation_ = r.balanced();
   sort_roots(out.hidden_);

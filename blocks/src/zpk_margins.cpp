@@ -261,7 +261,9 @@ Margins margins(const Zpk& loop) {
   if (loop.is_discrete()) {
     const double wn = M_PI / loop.ts();
     const Complex l = loop.log_response(wn);
-    if (std::isfinite(l.real()) && std::cos(l.imag()) < 0.0) out.phase_crossovers.push_back({wn, -l.real() * kDbPerNeper});
+    // L(-1) is real: its phase is 0 or pi to rounding, unless a root sits at z = -1
+    // (then L is 0 or infinite there and the phase is off by pi/2: no crossover).
+    if (std::isfinite(l.real()) && std::cos(l.imag()) < -0.5) out.phase_crossovers.push_back({wn, -l.real() * kDbPerNeper});
   }
   dedupe(out.gain_crossovers);
   dedupe(out.phase_crossovers);
