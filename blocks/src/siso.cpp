@@ -229,18 +229,22 @@ StateSpace factor_between(const Chain& ch, const Cut& p, const Cut& q) {
 Zpk series_product(const Chain& ch, const std::vector<Cut>& cuts, std::vector<Complex>& hidden) {
   const double ts = ch.ts;
   if (cuts.front().gamma.empty()) return Zpk(0.0, 0, {}, {}, ts);
-  Zpk z(cuts.front().gamma.front().second, 0, {}, {}, ts);
+  double k = cuts.front().gamma.front().second;
   int boundary_poles = 0, boundary_zeros = 0;
-  for (size_t k = 1; k < cuts.size(); ++k) {
-    if (cuts[k].gamma.empty()) return Zpk(0.0, 0, {}, {}, ts);
-    const Zpk f = factor_zpk(factor_between(ch, cuts[k - 1], cuts[k]), hidden);
+  std::vector<Complex> zeros, poles;  // gathered, then sorted once (a chain has thousands)
+  for (size_t c = 1; c < cuts.size(); ++c) {
+    if (cuts[c].gamma.empty()) return Zpk(0.0, 0, {}, {}, ts);
+    const Zpk f = factor_zpk(factor_between(ch, cuts[c - 1], cuts[c]), hidden);
     if (f.is_zero()) return f;
     (f.m() < 0 ? boundary_poles : boundary_zeros) += std::abs(f.m());
-    z = z * f;
+    k *= f.k();
+    zeros.insert(zeros.end(), f.zeros().begin(), f.zeros().end());
+    poles.insert(poles.end(), f.poles().begin(), f.poles().end());
   }
   hidden.insert(hidden.end(), static_cast<size_t>(std::min(boundary_poles, boundary_zeros)),
                 Complex(ts > 0.0 ? 1.0 : 0.0, 0.0));
-  return z.cancelled(Siso::kCancelTolerance, &hidden);
+  const Zpk z(k, boundary_zeros - boundary_poles, std::move(zeros), std::move(poles), ts);
+  return z.zeros().empty() ? z : z.cancelled(Siso::kCancelTolerance, &hidden);
 }
 
 }  // namespace

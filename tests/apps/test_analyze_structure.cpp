@@ -46,7 +46,7 @@ class AnalyzeStructure : public ::testing::Test {
   fs::path dir_;
 };
 
-const char* kPdOnMass = R"(
+const char* kPdOnMass = R"yaml(
 name: pd_mass
 parameters: {M: 2.0}
 inputs: {r: {}}
@@ -60,7 +60,7 @@ connections:
   - err -> C
   - C -> P
   - P -> [y, err.in2]
-)";
+)yaml";
 
 TEST_F(AnalyzeStructure, LoopAtAPlantWithIntegratorsHasPolesExactlyAtTheOrigin) {
   // L = (100 + 20 s/(0.001 s + 1))/(2 s^2) at either break. Before: poles at ~1e-13,
@@ -128,7 +128,7 @@ TEST_F(AnalyzeStructure, DiscreteClosedLoopWrittenOutCancelsItsPoleAtOne) {
   EXPECT_NEAR(j["dc_gain"].get<double>(), 1.0, 1e-12);
   for (const char* k : {"rise_time_s", "settling_time_s", "overshoot_pct", "final_value"})
     EXPECT_FALSE(j["step"][k].is_null()) << k;
-  const fs::path d = write("dloop.yaml", R"(
+  const fs::path d = write("dloop.yaml", R"yaml(
 name: dloop
 sample_time: 0.001
 inputs: {r: {}}
@@ -140,7 +140,7 @@ connections:
   - r -> err.in1
   - err -> L
   - L -> [y, err.in2]
-)");
+)yaml");
   const json c = analyze({d.string(), "--from", "r", "--to", "y"});
   EXPECT_NEAR(j["bandwidth_hz"].get<double>(), c["bandwidth_hz"].get<double>(), 1e-9 * c["bandwidth_hz"].get<double>());
   EXPECT_GT(j["bandwidth_hz"].get<double>(), 1.0);

@@ -30,7 +30,7 @@ std::string chain(int n, const std::string& block) {
 }
 
 // PD on a double integrator built from integrator blocks (issue 13, item 1).
-const char* kPdOnMass = R"(
+const char* kPdOnMass = R"yaml(
 name: pd_mass
 parameters: {M: 2.0}
 inputs: {r: {}}
@@ -48,7 +48,7 @@ connections:
   - m -> i1
   - i1 -> i2
   - i2 -> [y, err.in2]
-)";
+)yaml";
 
 TEST(LinearizeSparse, LoopWithIntegratorsHasExactPolesAtTheOrigin) {
   // Wherever the loop is broken, L = (100 + 20 s/(0.001 s + 1)) / (2 s^2): m = -2
@@ -77,7 +77,7 @@ TEST(LinearizeSparse, DiscreteLoopHasItsPoleExactlyAtOne) {
   // The discrete loop of issue 13: an accumulator T/(z - 1) and 0.1 (z - 0.9)/(z - 0.6)
   // / T: L has m = -1 exactly and k = 0.1 (0.1)/(0.4) = 0.025; no phase crossover at
   // DC; the closed loop is stable with DC gain 1.
-  const auto d = parse(R"(
+  const auto d = parse(R"yaml(
 name: dloop
 sample_time: 0.001
 inputs: {r: {}}
@@ -91,7 +91,7 @@ connections:
   - err -> I
   - I -> F
   - F -> [y, err.in2]
-)");
+)yaml");
   const Siso l = Siso::from_state_space(loop_transfer_sparse(*d, "err.out"));
   EXPECT_EQ(l.zpk().m(), -1);
   EXPECT_NEAR(l.zpk().k(), 0.025, 1e-15);
