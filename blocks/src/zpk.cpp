@@ -48,10 +48,29 @@ std::vector<Complex> sorted(std::vector<Complex> v) {
   return v;
 }
 
+// Runs of equal roots in a sorted list.
+std::vector<Zpk::Root> runs(const std::vector<Complex>& sorted_roots) {
+  std::vector<Zpk::Root> out;
+  for (const Complex& r : sorted_roots) {
+    if (!out.empty() && out.back().value == r) {
+      ++out.back().count;
+    } else {
+      out.push_back({r, 1});
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 Zpk::Zpk(double k, int m, std::vector<Complex> zeros, std::vector<Complex> poles, double ts)
-    : k_(k), m_(m), zeros_(sorted(std::move(zeros))), poles_(sorted(std::move(poles))), ts_(ts) {
+    : k_(k),
+      m_(m),
+      zeros_(sorted(std::move(zeros))),
+      poles_(sorted(std::move(poles))),
+      ts_(ts),
+      distinct_zeros_(runs(zeros_)),
+      distinct_poles_(runs(poles_)) {
   if (!(ts >= 0.0) || !std::isfinite(ts)) throw InputError("sample time must be a finite number >= 0");
   if (!std::isfinite(k)) throw InputError("zero-pole-gain form: the gain must be finite");
   const Complex x0(is_discrete() ? 1.0 : 0.0, 0.0);
@@ -96,16 +115,16 @@ Complex Zpk::log_response(double w) const {
     v += static_cast<double>(m_) * (is_discrete() ? Complex(std::log(2.0 * std::sin(th / 2.0)), (M_PI + th) / 2.0)
                                                   : Complex(std::log(w), M_PI / 2.0));
   }
-  for (const Complex& z : zeros_) v += log_factor(z, w, ts_);
-  for (const Complex& p : poles_) v -= log_factor(p, w, ts_);
+  for (const Root& z : distinct_zeros_) v += static_cast<double>(z.count) * log_factor(z.value, w, ts_);
+  for (const Root& p : distinct_poles_) v -= static_cast<double>(p.count) * log_factor(p.value, w, ts_);
   return v;
 }
 
 Complex Zpk::log_slope(double w) const {
   Complex s(0.0);
   if (m_ != 0) s += static_cast<double>(m_) * (is_discrete() ? factor_slope(Complex(1.0, 0.0), w, ts_) : Complex(1.0 / w, 0.0));
-  for (const Complex& z : zeros_) s += factor_slope(z, w, ts_);
-  for (const Complex& p : poles_) s -= factor_slope(p, w, ts_);
+  for (const Root& z : distinct_zeros_) s += static_cast<double>(z.count) * factor_slope(z.value, w, ts_);
+  for (const Root& p : distinct_poles_) s -= static_cast<double>(p.count) * factor_slope(p.value, w, ts_);
   return s;
 }
 

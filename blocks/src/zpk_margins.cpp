@@ -85,20 +85,21 @@ Range slope_range(const Part& f, double a, double b) {
   if (g.is_discrete()) {
     const double ts = g.ts(), c = 0.5 * (a + b);
     double d2 = 0.0;
-    for (const auto* list : {&g.zeros(), &g.poles()})
-      for (const Complex& r : *list) d2 += ts * ts * std::abs(r) / std::pow(arc_distance(r, a, b, ts), 2.0);
+    for (const auto* list : {&g.distinct_zeros(), &g.distinct_poles()})
+      for (const Zpk::Root& r : *list)
+        d2 += r.count * ts * ts * std::abs(r.value) / std::pow(arc_distance(r.value, a, b, ts), 2.0);
     if (g.m() != 0 && !f.phase) d2 += std::abs(g.m()) / std::pow(2.0 * std::sin(a * ts / 2.0) / ts, 2.0);
     const double s = f.slope(c), spread = 0.5 * d2 * (b - a);
     return {s - spread, s + spread};
   }
   if (g.m() != 0 && !f.phase) out.add(std::min(g.m() / a, g.m() / b), std::max(g.m() / a, g.m() / b));
-  for (const Complex& z : g.zeros()) {
-    const Range t = term_range(z.real(), a - z.imag(), b - z.imag(), f.phase);
-    out.add(t.lo, t.hi);
+  for (const Zpk::Root& z : g.distinct_zeros()) {
+    const Range t = term_range(z.value.real(), a - z.value.imag(), b - z.value.imag(), f.phase);
+    out.add(z.count * t.lo, z.count * t.hi);
   }
-  for (const Complex& p : g.poles()) {
-    const Range t = term_range(p.real(), a - p.imag(), b - p.imag(), f.phase);
-    out.add(-t.hi, -t.lo);
+  for (const Zpk::Root& p : g.distinct_poles()) {
+    const Range t = term_range(p.value.real(), a - p.value.imag(), b - p.value.imag(), f.phase);
+    out.add(-p.count * t.hi, -p.count * t.lo);
   }
   return out;
 }

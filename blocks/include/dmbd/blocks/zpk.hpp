@@ -28,6 +28,14 @@ class Zpk {
   int m() const { return m_; }
   const std::vector<Complex>& zeros() const { return zeros_; }  // boundary point excluded
   const std::vector<Complex>& poles() const { return poles_; }  // boundary point excluded
+  // The same, each distinct root once with its multiplicity: what the evaluations
+  // loop over (a chain of 10000 equal lags is one term).
+  struct Root {
+    Complex value;
+    int count;
+  };
+  const std::vector<Root>& distinct_zeros() const { return distinct_zeros_; }
+  const std::vector<Root>& distinct_poles() const { return distinct_poles_; }
   double ts() const { return ts_; }
   bool is_discrete() const { return ts_ > 0.0; }
   bool is_zero() const { return k_ == 0.0; }
@@ -59,6 +67,7 @@ class Zpk {
   int m_;
   std::vector<Complex> zeros_, poles_;
   double ts_;
+  std::vector<Root> distinct_zeros_, distinct_poles_;
 };
 
 // A grid two decades beyond the slowest and fastest root (up to Nyquist when discrete).
