@@ -105,19 +105,6 @@ void add_interconnection(json& report, const DiagramTransfer& t) {
   report["factors"] = t.transfer.factors();
 }
 
-json sweep_point(const DiagramTransfer& t) {
-  const b::Zpk& z = t.transfer.zpk();
-  const b::Stability st = b::stability(z);
-  const std::vector<b::Complex> poles = z.all_poles();
-  return {{"stable", st == b::Stability::Stable},
-          {"stability", b::to_string(st)},
-          {"internally_stable", t.internal == b::Stability::Stable},
-          {"poles", roots_json(poles)},
-          {"max_real_pole", max_real_pole(poles, z.ts())},
-          {"dc_gain", number(z.dc_gain())},
-          {"bandwidth_hz", hz(b::bandwidth(z))}};
-}
-
 namespace {
 
 // What the transfer is: coefficients (when representable), poles, zeros, DC gain, and

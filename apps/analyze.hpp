@@ -38,9 +38,6 @@ DiagramTransfer diagram_transfer(const diagrams::Diagram& d, const std::string& 
 // The report's keys about the interconnection: internally_stable, internal_stability,
 // states, factors.
 void add_interconnection(nlohmann::json& report, const DiagramTransfer& t);
-// One point of --sweep: stable, stability, internally_stable, poles, max_real_pole,
-// dc_gain, bandwidth_hz.
-nlohmann::json sweep_point(const DiagramTransfer& t);
 
 // Computes every figure of the report (docs/analyze.md). Throws InputError when the
 // request does not fit the system (an improper TF where a step response or c2d is

@@ -120,10 +120,9 @@ std::string info_text(const m::RobotDescription& r, const m::ModelSummary& s) {
 
 }  // namespace
 
-ModelCommand::ModelCommand(CLI::App& app) {
-  model_ = app.add_subcommand("model", "Robot descriptions (URDF): summaries and checks");
-  model_->require_subcommand(1);
-  info_ = model_->add_subcommand(
+ModelCommand::ModelCommand(CLI::App& app) : Command(app, "model", "Robot descriptions (URDF): summaries and checks") {
+  cmd_->require_subcommand(1);
+  info_ = cmd_->add_subcommand(
       "info", "Summary of a URDF: links, degrees of freedom, joints with limits and axes, mass, height, meshes");
   info_->add_option("urdf", urdf_, "The URDF file (default: DRACO's, " DMBD_DRACO_DIR "/draco.urdf)");
   info_->add_flag("--json", json_, "Print one JSON object instead of the table");
@@ -134,26 +133,17 @@ ModelCommand::ModelCommand(CLI::App& app) {
   info_->add_flag("--strict", strict_, "A mesh that cannot be found or read is an error (default: a warning)");
 }
 
-bool ModelCommand::selected() const { return model_ && model_->parsed(); }
-
-int ModelCommand::run() const {
-  try {
-    m::UrdfOptions options;
-    options.package_paths = package_paths_;
-    options.strict = strict_;
-    const std::string path = urdf_.empty() ? std::string(DMBD_DRACO_DIR) + "/draco.urdf" : urdf_;
-    const m::RobotDescription robot = m::load_urdf(path, options);
-    const m::ModelSummary summary = m::summarize(robot);
-    // Everything is computed before anything is printed: a failure prints no half report.
-    const std::string out = json_ ? info_json(robot, summary).dump() + "\n" : info_text(robot, summary);
-    std::cout << out << std::flush;
-    return 0;
-  } catch (const m::ModelError& e) {
-    std::string msg = e.what();
-    std::replace(msg.begin(), msg.end(), '\n', ' ');
-    std::cerr << "dmbd: error: " << msg << "\n";
-    return 2;
-  }
+int ModelCommand::run() {
+  m::UrdfOptions options;
+  options.package_paths = package_paths_;
+  options.strict = strict_;
+  const std::string path = urdf_.empty() ? std::string(DMBD_DRACO_DIR) + "/draco.urdf" : urdf_;
+  const m::RobotDescription robot = m::load_urdf(path, options);
+  const m::ModelSummary summary = m::summarize(robot);
+  // Everything is computed before anything is printed: a failure prints no half report.
+  const std::string out = json_ ? info_json(robot, summary).dump() + "\n" : info_text(robot, summary);
+  std::cout << out << std::flush;
+  return 0;
 }
 
 }  // namespace dmbd::apps

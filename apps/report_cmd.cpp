@@ -4,7 +4,6 @@
 #include <iostream>
 
 #include "dmbd/base/error.hpp"
-#include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/report/report.hpp"
 #include "dmbd/sim/run_directory.hpp"
 #include "simulate_cmd.hpp"
@@ -35,37 +34,25 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> parse_camera(const std::string& s) {
 
 }  // namespace
 
-ReportCommand::ReportCommand(CLI::App& app) {
-  cmd_ = app.add_subcommand("report", "Redraw a run directory's plots, frames, video and report.html from its log, without simulating");
+ReportCommand::ReportCommand(CLI::App& app)
+    : Command(app, "report", "Redraw a run directory's plots, frames, video and report.html from its log, without simulating") {
   cmd_->add_option("run_dir", dir_, "A folder written by dmbd simulate (log.csv, metrics.json)")->required();
   cmd_->add_flag("--no-frames", no_frames_, "Do not render frames or the video");
   cmd_->add_option("--size", size_, "Frame size WIDTHxHEIGHT in pixels, instead of the scenario's");
   cmd_->add_option("--camera", camera_, "Camera POSITION:LOOK_AT as X,Y,Z:X,Y,Z (m), instead of the scenario's");
 }
 
-bool ReportCommand::selected() const { return cmd_->parsed(); }
-
-int ReportCommand::run() const {
-  try {
-    report::ReportOptions o;
-    o.frames = !no_frames_;
-    if (!size_.empty()) std::tie(o.width_px, o.height_px) = parse_size(size_);
-    if (!camera_.empty()) {
-      const auto [p, l] = parse_camera(camera_);
-      o.camera_position = p;
-      o.camera_look_at = l;
-    }
-    print_report(report::write_report(sim::read_run(dir_), dir_, o), dir_);
-    return 0;
-  } catch (const diagrams::DiagramError& e) {
-    for (const auto& d : e.diagnostics()) std::cerr << d.str() << "\n";
-    return 2;
-  } catch (const InputError& e) {
-    std::string msg = e.what();
-    std::replace(msg.begin(), msg.end(), '\n', ' ');
-    std::cerr << "dmbd: error: " << msg << "\n";
-    return 2;
+int ReportCommand::run() {
+  report::ReportOptions o;
+  o.frames = !no_frames_;
+  if (!size_.empty()) std::tie(o.width_px, o.height_px) = parse_size(size_);
+  if (!camera_.empty()) {
+    const auto [p, l] = parse_camera(camera_);
+    o.camera_position = p;
+    o.camera_look_at = l;
   }
+  print_report(report::write_report(sim::read_run(dir_), dir_, o), dir_);
+  return 0;
 }
 
 }  // namespace dmbd::apps

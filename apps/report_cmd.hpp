@@ -2,24 +2,19 @@
 // `dmbd report RUN_DIR [--no-frames] [--size WxH] [--camera X,Y,Z:X,Y,Z]`: redraws a run
 // directory's report (plots/, frames/, video.mp4, report.html) from its log.csv and
 // metrics.json, without simulating; with the run's own settings the files are those
-// `dmbd simulate` wrote, pixel for pixel. A missing or malformed run: one line on
-// stderr, exit code 2.
-#include <CLI/CLI.hpp>
-
+// `dmbd simulate` wrote, pixel for pixel.
 #include <string>
+
+#include "command.hpp"
 
 namespace dmbd::apps {
 
-class ReportCommand {
+class ReportCommand : public Command {
  public:
   explicit ReportCommand(CLI::App& app);
-  ReportCommand(const ReportCommand&) = delete;
-  ReportCommand& operator=(const ReportCommand&) = delete;
-  bool selected() const;
-  int run() const;
+  int run() override;
 
  private:
-  CLI::App* cmd_ = nullptr;
   std::string dir_, size_, camera_;
   bool no_frames_ = false;
 };

@@ -12,7 +12,6 @@
 #include <fmt/format.h>
 
 #include "dmbd/blocks/error.hpp"
-#include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/report/report.hpp"
 #include "dmbd/sim/run_directory.hpp"
@@ -35,57 +34,63 @@ double parse_duration(const std::string& text) {
   return d;
 }
 
-SimulateCommand::SimulateCommand(CLI::App& app) {
-  cmd_ = app.add_subcommand("simulate", "Run a scenario against the model of DRACO and write a log, metrics, plots, frames, "
-                                        "a video and an HTML report");
+namespace {
+
+// A progress bar on stderr when it is a terminal, once the run has taken more than a
+// second; its line is ended when the run ends, also by an error.
+class ProgressBar {
+ public:
+  ProgressBar() : tty_(isatty(STDERR_FILENO) != 0), start_(std::chrono::steady_clock::now()) {}
+  ~ProgressBar() {
+    if (drawn_) std::fprintf(stderr, "\n");
+  }
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+
+  void show(double f, const std::string& variant) {
+    if (!tty_) return;
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (el < 1.0 && f < 1.0) return;
+    const int width = 30, n = static_cast<int>(std::clamp(f, 0.0, 1.0) * width);
+    std::fprintf(stderr, "\r[%s%s] %3d%%  %-24.24s %6.1f s", std::string(static_cast<std::size_t>(n), '#').c_str(),
+                 std::string(static_cast<std::size_t>(width - n), '.').c_str(), static_cast<int>(f * 100), variant.c_str(), el);
+    drawn_ = true;
+  }
+
+ private:
+  bool tty_, drawn_ = false;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+SimulateCommand::SimulateCommand(CLI::App& app)
+    : Command(app, "simulate",
+              "Run a scenario against the model of DRACO and write a log, metrics, plots, frames, a video and an HTML "
+              "report") {
   cmd_->add_option("scenario", scenario_, "A scenario file (YAML, docs/scenario-format.md)")->required();
   cmd_->add_option("--out", out_, "Output folder (created if missing)")->required();
   cmd_->add_flag("--no-frames", no_frames_, "Do not render frames or the video");
   cmd_->add_option("--duration", duration_text_, "Simulated time of every variant (s), instead of the scenario's");
 }
 
-bool SimulateCommand::selected() const { return cmd_->parsed(); }
-
-int SimulateCommand::run() const {
-  // A progress bar on a terminal, once the run has taken more than a second.
-  const bool tty = isatty(STDERR_FILENO) != 0;
-  const auto start = std::chrono::steady_clock::now();
-  bool drawn = false;
-  auto progress = [&](double f, const std::string& variant) {
-    if (!tty) return;
-    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (el < 1.0 && f < 1.0) return;
-    const int width = 30, n = static_cast<int>(std::clamp(f, 0.0, 1.0) * width);
-    std::fprintf(stderr, "\r[%s%s] %3d%%  %-24.24s %6.1f s", std::string(static_cast<std::size_t>(n), '#').c_str(),
-                 std::string(static_cast<std::size_t>(width - n), '.').c_str(), static_cast<int>(f * 100), variant.c_str(), el);
-    drawn = true;
-  };
-  try {
-    sim::ScenarioRunOptions o;
-    if (!duration_text_.empty()) o.duration_s = parse_duration(duration_text_);
-    const sim::Scenario s = sim::load_scenario(scenario_);
-    o.on_progress = progress;
-    const sim::ScenarioRun r = sim::run_scenario(s, out_, o);
-    if (drawn) std::fprintf(stderr, "\n");
-    for (const auto& run : r.runs)
-      std::cout << fmt::format("{}: {:.3g} s simulated in {:.3g} s (real-time factor {:.3g})\n", run.name,
-                               run.log.time().empty() ? 0.0 : run.log.time().back(), run.wall_s, run.real_time_factor);
-    for (const auto& f : r.files) std::cout << "wrote " << out_ << "/" << f << "\n";
-    report::ReportOptions ro;
-    ro.frames = !no_frames_;
-    print_report(report::write_report(r, out_, ro), out_);
-    return 0;
-  } catch (const diagrams::DiagramError& e) {
-    if (drawn) std::fprintf(stderr, "\n");
-    for (const auto& d : e.diagnostics()) std::cerr << d.str() << "\n";
-    return 2;
-  } catch (const InputError& e) {
-    if (drawn) std::fprintf(stderr, "\n");
-    std::string msg = e.what();
-    std::replace(msg.begin(), msg.end(), '\n', ' ');
-    std::cerr << "dmbd: error: " << msg << "\n";
-    return 2;
-  }
+int SimulateCommand::run() {
+  sim::ScenarioRunOptions o;
+  if (!duration_text_.empty()) o.duration_s = parse_duration(duration_text_);
+  const sim::Scenario s = sim::load_scenario(scenario_);
+  const sim::ScenarioRun r = [&] {
+    ProgressBar bar;
+    o.on_progress = [&bar](double f, const std::string& variant) { bar.show(f, variant); };
+    return sim::run_scenario(s, out_, o);
+  }();
+  for (const auto& run : r.runs)
+    std::cout << fmt::format("{}: {:.3g} s simulated in {:.3g} s (real-time factor {:.3g})\n", run.name,
+                             run.log.time().empty() ? 0.0 : run.log.time().back(), run.wall_s, run.real_time_factor);
+  for (const auto& f : r.files) std::cout << "wrote " << out_ << "/" << f << "\n";
+  report::ReportOptions ro;
+  ro.frames = !no_frames_;
+  print_report(report::write_report(r, out_, ro), out_);
+  return 0;
 }
 
 }  // namespace dmbd::apps

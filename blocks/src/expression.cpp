@@ -335,7 +335,7 @@ struct Evaluator {
     }
     if (n.name == "pi") return constant(M_PI);
     if (n.name == "e") return constant(M_E);
-    fail("unknown parameter " + quote(n.name) + " (give it a value, e.g. --param " + n.name + "=VALUE)", n.column);
+    fail("unknown parameter " + quote(n.name) + " (give it a value)", n.column);
   }
 
   // A Sum or Product, folded left to right as `((a op b) op c) ...`.

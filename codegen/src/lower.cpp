@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "dmbd/blocks/discretize.hpp"
@@ -72,6 +73,27 @@ std::vector<Section> discretised_sections(const b::TransferFunction& g, double t
   for (const Complex& p : poles) prod /= z0 - p;
   const double gain = (gd.evaluate(z0) / prod).real();
   return sections_from_roots(zeros, poles, gain);
+}
+
+// A continuous pole or zero above the Nyquist frequency has no discrete counterpart at
+// this rate: the discretisation folds it (Tustin maps it near z = -1, ZOH aliases it),
+// so the generated loop does not behave as the block. Not an error (a far pole is often
+// deliberate roll-off), but the engineer must know: one warning per block.
+std::optional<std::string> above_nyquist(const std::vector<Complex>& roots, double ts, const std::string& path) {
+  const double nyquist = M_PI / ts;  // rad/s
+  double worst = 0.0;
+  for (const Complex& r : roots) worst = std::max(worst, std::abs(r));
+  if (!(worst > nyquist)) return std::nullopt;
+  return "block '" + path + "' has a pole or zero at " + fmt_coeff(worst / (2 * M_PI)) + " Hz, above the Nyquist frequency " +
+         fmt_coeff(0.5 / ts) + " Hz of the loop: its discretisation cannot reproduce it (raise the rate or lower the "
+         "block's corner)";
+}
+
+std::optional<std::string> above_nyquist(const b::TransferFunction& g, double ts, const std::string& path) {
+  if (g.is_discrete()) return std::nullopt;
+  std::vector<Complex> roots = g.poles();
+  for (const Complex& z : g.zeros()) roots.push_back(z);
+  return above_nyquist(roots, ts, path);
 }
 
 struct Builder {
@@ -199,7 +221,8 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
   for (const auto& [name, m] : opt.block_methods) {
     (void)m;
     if (std::find(f.atomic_name.begin(), f.atomic_name.end(), name) == f.atomic_name.end())
-      throw InputError("--block-method: diagram '" + d.name() + "' has no block '" + name + "'");
+      throw InputError("a discretisation method is given for block '" + name + "', but diagram '" + d.name() +
+                       "' has no block of that name");
   }
   Builder bld;
   LoopProgram& p = bld.p;
@@ -302,7 +325,10 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
       }
       case diagrams::BlockType::Ss: {
         b::StateSpace m = bl.model;
-        if (!m.is_discrete()) m = b::c2d(m, ts, method);
+        if (!m.is_discrete()) {
+          if (auto w = above_nyquist(m.poles(), ts, path)) p.warnings.push_back(*w);
+          m = b::c2d(m, ts, method);
+        }
         const int nx = m.num_states();
         std::vector<int> xs, nxt;
         for (int k = 0; k < nx; ++k) {
@@ -328,6 +354,7 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
         break;
       }
       default: {  // tf, pd, pid, lowpass, integrator
+        if (auto w = above_nyquist(*bl.tf, ts, path)) p.warnings.push_back(*w);
         const auto secs = discretised_sections(*bl.tf, ts, method);
         cascade(bld, c, secs, in[0][0], out[0][0], i, path);
         info.realisation = describe(secs, method, bl.tf->is_discrete());
@@ -558,6 +585,7 @@ LoopProgram lower(const b::TransferFunction& g, const std::string& name, const L
   const int y = bld.new_slot("G_out", SlotKind::Signal, "G");
   p.inputs.push_back(u);
   BlockCode c;
+  if (auto w = above_nyquist(g, ts, "G")) p.warnings.push_back(*w);
   const auto secs = discretised_sections(g, ts, opt.method);
   cascade(bld, c, secs, u, y, 0, "G");
   p.blocks.push_back({"G", "tf", "", describe(secs, opt.method, g.is_discrete())});

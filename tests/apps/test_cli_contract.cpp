@@ -67,4 +67,53 @@ TEST_F(CliContract, ReportOfAFolderThatIsNotARun) {
   expect_one_line_error({"report", (dir_ / "nope").string()}, "cannot read");
 }
 
+TEST_F(CliContract, EveryOutputIsCheckedBeforeAnyIsWritten) {
+  // analyze: the step plot cannot be written (a directory is in the way), so the Bode
+  // plot, which comes first, must not be written either.
+  fs::create_directories(dir_ / "s.png");
+  expect_one_line_error({"analyze", "--tf", "1/(s+1)", "--bode", (dir_ / "b.png").string(), "--step-plot",
+                         (dir_ / "s.png").string()},
+                        "--step-plot");
+  EXPECT_FALSE(fs::exists(dir_ / "b.png"));
+  // codegen: the report cannot be written, so no header either.
+  fs::create_directories(dir_ / "tf.report.md");
+  expect_one_line_error({"codegen", "--tf", "1/(s+1)", "--rate", "1000", "--out", dir_.string()}, "tf.report.md");
+  EXPECT_FALSE(fs::exists(dir_ / "tf.hpp"));
+  EXPECT_FALSE(fs::exists(dir_ / "tf.report.json"));
+}
+
+// Issue 13, item 7: a filter above the Nyquist frequency of the generated loop.
+TEST_F(CliContract, CodegenWarnsOfAPoleAboveTheNyquistFrequency) {
+  const std::vector<std::string> args{"codegen", "--tf", "1/(s/(2*pi*8000)+1)", "--out", dir_.string(), "--rate"};
+  auto at = [&](const char* rate) {
+    auto a = args;
+    a.push_back(rate);
+    return run_dmbd(a, dir_);
+  };
+  const auto fast = at("20000"), slow = at("10000");
+  ASSERT_EQ(fast.code, 0) << fast.err;
+  ASSERT_EQ(slow.code, 0) << slow.err;
+  EXPECT_EQ(fast.out.find("Nyquist"), std::string::npos) << fast.out;  // 8 kHz below 10 kHz: fine
+  EXPECT_NE(slow.out.find("warning: block 'G' has a pole or zero at 8000 Hz, above the Nyquist frequency 5000 Hz"),
+            std::string::npos)
+      << slow.out;
+  EXPECT_NE(dmbd::cli_testing::slurp(dir_ / "tf.report.md").find("above the Nyquist frequency"), std::string::npos);
+}
+
+// Issue 13, item 7: a 16-bit build whose predicted error bound exceeds the output's
+// range (the DOB controller at its 2 kHz: 5.4e4 A against +-22 A; 32 bits are within).
+TEST_F(CliContract, CodegenWarnsWhenTheFixedPointBoundExceedsTheOutputRange) {
+  const std::string diagram = std::string(DMBD_SOURCE_DIR) + "/examples/diagrams/dob_controller.yaml";
+  auto build = [&](const char* word) {
+    return run_dmbd({"codegen", diagram, "--rate", "2000", "--scalar", "fixed", "--word", word, "--out", dir_.string()}, dir_);
+  };
+  const auto w16 = build("16");
+  ASSERT_EQ(w16.code, 0) << w16.err;
+  EXPECT_NE(w16.out.find("warning: output 'out_i': the predicted 16-bit fixed-point error bound"), std::string::npos) << w16.out;
+  EXPECT_NE(w16.out.find("exceeds the output's range (+-22 A)"), std::string::npos) << w16.out;
+  const auto w32 = build("32");
+  ASSERT_EQ(w32.code, 0) << w32.err;
+  EXPECT_EQ(w32.out.find("exceeds the output's range"), std::string::npos) << w32.out;
+}
+
 }  // namespace

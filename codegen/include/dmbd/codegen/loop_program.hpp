@@ -72,8 +72,8 @@ struct LowerOptions {
 // samples, with a warning in `warnings`, when they are not). Blocks whose loop would be
 // algebraic once discretised are merged into one state-space group. InputError for such
 // a loop through a saturation or delay (naming the blocks), a rate that does not match
-// a discrete diagram, a --block-method path that names no block, or a non-zero delay
-// shorter than half a sample.
+// a discrete diagram, a block method (LowerOptions::block_methods) for a path that
+// names no block, or a non-zero delay shorter than half a sample.
 LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& options);
 // A single transfer function as a one-input one-output program.
 LoopProgram lower(const blocks::TransferFunction& g, const std::string& name, const LowerOptions& options);
