@@ -52,8 +52,8 @@ class SparseStateSpace {
 
 // v -> e^{tM} v for a sparse square M, never forming a dense matrix: the shift
 // mu = trace(M)/n is taken out exactly, and the rest is a Taylor series on
-// s = ceil(||M - mu I||_1 t) steps of t/s (each step's matrix of 1-norm <= 1), its terms
-// summed until they fall below rounding. Cost: about 18 s products with M.
+// s = ceil(||M - mu I||_1 t / 4) steps of t/s (each step's matrix of 1-norm <= 4), its
+// terms summed until they fall below rounding. Cost: about 30 s products with M.
 class ExponentialAction {
  public:
   explicit ExponentialAction(SparseMatrix m);
