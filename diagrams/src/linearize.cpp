@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "dmbd/diagrams/flat.hpp"
 
@@ -16,14 +17,22 @@ using Flat = FlatDiagram;
 // A sparse row over the columns [x (all states); w (the injected input)], sorted.
 using Row = std::vector<std::pair<int, double>>;
 
-// Sums of scaled sparse rows into a dense scratch, gathered back sorted.
+// Sums of scaled sparse rows into a dense scratch, gathered back sorted. A sum that
+// cancels to rounding (|sum| <= 16 eps times its largest term: unity feedback around
+// a filter, A_Q + B_Q C_Q) is exactly zero: the exact model has no entry there, and a
+// residue of 1e-14 would couple states that are not coupled (an integrator inside a
+// loop group instead of a state of its own, and balancing that scales by 2^27).
 class Accumulator {
  public:
-  explicit Accumulator(int width) : value_(static_cast<size_t>(width), 0.0), used_(static_cast<size_t>(width), false) {}
+  explicit Accumulator(int width)
+      : value_(static_cast<size_t>(width), 0.0), biggest_(static_cast<size_t>(width), 0.0),
+        used_(static_cast<size_t>(width), false) {}
   void add(int col, double v) {
     if (v == 0.0) return;
-    if (!used_[static_cast<size_t>(col)]) used_[static_cast<size_t>(col)] = true, touched_.push_back(col);
-    value_[static_cast<size_t>(col)] += v;
+    const auto c = static_cast<size_t>(col);
+    if (!used_[c]) used_[c] = true, touched_.push_back(col);
+    value_[c] += v;
+    biggest_[c] = std::max(biggest_[c], std::abs(v));
   }
   void add(const Row& r, double scale) {
     if (scale != 0.0)
@@ -32,17 +41,19 @@ class Accumulator {
   Row take() {
     std::sort(touched_.begin(), touched_.end());
     Row r;
-    for (int c : touched_) {
-      if (value_[static_cast<size_t>(c)] != 0.0) r.emplace_back(c, value_[static_cast<size_t>(c)]);
-      value_[static_cast<size_t>(c)] = 0.0;
-      used_[static_cast<size_t>(c)] = false;
+    for (int col : touched_) {
+      const auto c = static_cast<size_t>(col);
+      if (std::abs(value_[c]) > kCancelled * biggest_[c]) r.emplace_back(col, value_[c]);
+      value_[c] = biggest_[c] = 0.0;
+      used_[c] = false;
     }
     touched_.clear();
     return r;
   }
 
  private:
-  std::vector<double> value_;
+  static constexpr double kCancelled = 16.0 * std::numeric_limits<double>::epsilon();
+  std::vector<double> value_, biggest_;
   std::vector<bool> used_;
   std::vector<int> touched_;
 };
