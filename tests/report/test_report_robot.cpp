@@ -14,6 +14,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "sanitizer.hpp"
 #include <opencv2/imgproc.hpp>
 
 #include "dmbd/model/robot_description.hpp"
@@ -26,6 +28,15 @@
 // exports its own as __libc_*), so every heap allocation made by the process, by
 // operator new, OpenCV's fastMalloc (posix_memalign) or C code, is counted while
 // g_counting is set.
+namespace {
+volatile bool g_counting = false;
+volatile long g_allocations = 0;
+[[maybe_unused]] void count_one() {
+  if (g_counting) g_allocations = g_allocations + 1;
+}
+}  // namespace
+
+#if !DMBD_ASAN
 extern "C" {
 void* __libc_malloc(std::size_t);
 void __libc_free(void*);
@@ -33,14 +44,6 @@ void* __libc_calloc(std::size_t, std::size_t);
 void* __libc_realloc(void*, std::size_t);
 void* __libc_memalign(std::size_t, std::size_t);
 }
-
-namespace {
-volatile bool g_counting = false;
-volatile long g_allocations = 0;
-void count_one() {
-  if (g_counting) g_allocations = g_allocations + 1;
-}
-}  // namespace
 
 extern "C" {
 void* malloc(std::size_t n) noexcept {
@@ -72,6 +75,7 @@ int posix_memalign(void** out, std::size_t alignment, std::size_t n) noexcept {
   return 0;
 }
 }
+#endif  // !DMBD_ASAN
 
 namespace dmbd::viz {
 namespace {
@@ -282,6 +286,7 @@ TEST(Overlays, DrawnWhereProjected) {
 // No allocation per frame.
 
 TEST_F(Draco, NoHeapAllocationPerFrameAfterWarmUp) {
+  DMBD_SKIP_UNDER_ASAN();
   Renderer renderer(kW, kH);
   renderer.set_scene(*scene_);
   std::vector<std::vector<Eigen::Isometry3d>> poses;

@@ -3,6 +3,7 @@
 // with several ports is wide enough for its port names beside its own text, nodes of a
 // column do not overlap, and the picture draws.
 #include "dmbd/viz/diagram_drawing.hpp"
+#include "dmbd/base/error.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -62,6 +63,33 @@ TEST(DiagramDrawing, MismatchedDriversAreRefused) {
   DiagramPicture p = picture();
   p.drivers.pop_back();
   EXPECT_THROW(layout_diagram(p), std::invalid_argument);
+}
+
+// Issue 13, item 10: 10,000 blocks in a chain would be a 3,000,000-pixel-wide image that
+// cannot be encoded (2,000 here: 600,000 pixels): a user error naming the size, before
+// any pixel is allocated.
+TEST(DiagramDrawing, ADrawingTooLargeIsRefusedWithItsSize) {
+  DiagramPicture p;
+  p.title = "chain";
+  p.inputs = {"u"};
+  p.outputs = {"y"};
+  for (int k = 0; k < 2000; ++k) {
+    p.blocks.push_back({"g" + std::to_string(k), "gain", "k: 1", {"u"}, {"y"}});
+    p.drivers.push_back({k == 0 ? DiagramPicture::Source{-1, 0} : DiagramPicture::Source{k - 1, 0}});
+  }
+  p.output_drivers = {{1999, 0}};
+  try {
+    draw_diagram(p);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("2000 blocks"), std::string::npos) << m;
+    EXPECT_NE(m.find("more than 16384 a side"), std::string::npos) << m;
+  }
+  p.blocks.resize(20);  // a chain of 20 fits
+  p.drivers.resize(20);
+  p.output_drivers = {{19, 0}};
+  EXPECT_LE(draw_diagram(p).cols, kMaxDrawingSide);
 }
 
 }  // namespace

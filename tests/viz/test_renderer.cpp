@@ -18,58 +18,6 @@
 #include "dmbd/viz/plot.hpp"
 #include "dmbd/viz/primitives.hpp"
 
-// ---------------------------------------------------------------------------------
-// Allocation counter: the C allocation functions are replaced in this executable (glibc
-// exports its own as __libc_*), so every heap allocation made by the process, by
-// operator new, OpenCV's fastMalloc (posix_memalign) or C code, is counted while
-// g_counting is set.
-extern "C" {
-void* __libc_malloc(std::size_t);
-void __libc_free(void*);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-}
-
-namespace {
-volatile bool g_counting = false;
-volatile long g_allocations = 0;
-void count_one() {
-  if (g_counting) g_allocations = g_allocations + 1;
-}
-}  // namespace
-
-extern "C" {
-void* malloc(std::size_t n) noexcept {
-  count_one();
-  return __libc_malloc(n);
-}
-void free(void* p) noexcept { __libc_free(p); }
-void* calloc(std::size_t a, std::size_t b) noexcept {
-  count_one();
-  return __libc_calloc(a, b);
-}
-void* realloc(void* p, std::size_t n) noexcept {
-  count_one();
-  return __libc_realloc(p, n);
-}
-void* memalign(std::size_t alignment, std::size_t n) noexcept {
-  count_one();
-  return __libc_memalign(alignment, n);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t n) noexcept {
-  count_one();
-  return __libc_memalign(alignment, n);
-}
-int posix_memalign(void** out, std::size_t alignment, std::size_t n) noexcept {
-  count_one();
-  void* p = __libc_memalign(alignment, n);
-  if (p == nullptr) return ENOMEM;
-  *out = p;
-  return 0;
-}
-}
-
 namespace dmbd::viz {
 namespace {
 

@@ -1,4 +1,5 @@
 #include "dmbd/viz/diagram_drawing.hpp"
+#include "dmbd/base/error.hpp"
 #include "dmbd/base/file.hpp"
 
 #include <algorithm>
@@ -220,6 +221,11 @@ DiagramLayout layout_diagram(const DiagramPicture& d) {
 
 cv::Mat draw_diagram(const DiagramPicture& d) {
   const DiagramLayout L = layout_diagram(d);
+  if (L.size.width > kMaxDrawingSide || L.size.height > kMaxDrawingSide)
+    throw InputError("a drawing of diagram '" + d.title + "' (" + std::to_string(d.blocks.size()) + " blocks in " +
+                     std::to_string(L.layers) + " columns) would be " + std::to_string(L.size.width) + " x " +
+                     std::to_string(L.size.height) + " pixels, more than " + std::to_string(kMaxDrawingSide) +
+                     " a side: group blocks into subsystems and draw those");
   cv::Mat img(L.size, CV_8UC3, cv::Scalar(255, 255, 255));
   const std::string& title = d.title;
   cv::putText(img, fit(title, 0.7, 2, L.size.width - 2 * kMargin), {kMargin, 38}, cv::FONT_HERSHEY_SIMPLEX, 0.7, kInk,

@@ -54,6 +54,9 @@ struct DiagramLayout {
 
 // Throws std::invalid_argument when drivers and blocks (or outputs) do not match.
 DiagramLayout layout_diagram(const DiagramPicture& d);
+// The largest side of a drawing in pixels (a 16384 x 16384 image is 800 MB; PNG readers
+// and OpenCV's encoder refuse far less): a larger layout is an InputError.
+constexpr int kMaxDrawingSide = 16384;
 cv::Mat draw_diagram(const DiagramPicture& d);
 // Render and write a PNG atomically.
 void save_diagram_png(const DiagramPicture& d, const std::string& path);
