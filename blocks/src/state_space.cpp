@@ -303,10 +303,12 @@ StateSpace feedback(const StateSpace& f, const StateSpace& h, int sign) {
     throw InputError("algebraic loop: I - sign*D_forward*D_feedback is singular, the feedback connection is ill-posed");
   Matrix cx(ny, nf + nh);
   cx << f.c(), s * f.d() * h.c();
-  // Solves with no columns are skipped: Eigen's LU solve binds a reference through the
-  // null data pointer of an empty right-hand side (UBSan, issue 13).
-  const Matrix cy = nf + nh > 0 ? Matrix(lu.solve(cx)) : Matrix(ny, 0);  // y = Cy x + Dy r
-  const Matrix dy = nu > 0 ? Matrix(lu.solve(f.d())) : Matrix(ny, 0);
+  // Eigen's triangular solve binds a reference to the first coefficient even of an
+  // empty right-hand side (a null pointer: undefined behaviour, found by UBSan when
+  // neither system has states): solve only what is there.
+  auto solve = [&lu](const Matrix& rhs) { return rhs.size() == 0 ? Matrix(lu.rows(), rhs.cols()) : Matrix(lu.solve(rhs)); };
+  const Matrix cy = solve(cx);  // y = Cy x + Dy r
+  const Matrix dy = solve(f.d());
   Matrix cu0 = Matrix::Zero(nu, nf + nh);
   cu0.rightCols(nh) = s * h.c();
   const Matrix cu = cu0 + s * h.d() * cy;  // u = Cu x + Du r
