@@ -18,7 +18,8 @@ namespace dmbd::blocks {
 class Zpk {
  public:
   // k = 0 is the zero transfer. InputError for a root at the boundary point in the
-  // lists, a non-finite k, or roots not closed under conjugation.
+  // lists, a non-finite root or a non-finite k. The roots are taken as given: that
+  // complex ones come in conjugate pairs is the caller's promise (not checked).
   Zpk(double k, int m, std::vector<Complex> zeros, std::vector<Complex> poles, double ts = 0.0);
   // Roots at the boundary point decided by Polynomial::without_root; a common factor
   // s^j ((z - 1)^j) of num and den cancels exactly.
