@@ -9,8 +9,8 @@
 
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/frequency.hpp"
-#include "dmbd/blocks/state_space.hpp"
-#include "dmbd/blocks/time_response.hpp"
+#include "dmbd/blocks/zpk.hpp"
+#include "dmbd/diagrams/linearize.hpp"
 #include "dmbd/viz/plot.hpp"
 
 namespace dmbd::apps {
@@ -24,12 +24,6 @@ constexpr double kTwoPi = 2.0 * M_PI;
 
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 json number(const std::optional<double>& v) { return v ? number(*v) : json(nullptr); }
-
-json roots_json(const std::vector<b::Complex>& roots) {
-  json a = json::array();
-  for (const auto& r : roots) a.push_back({r.real(), r.imag()});
-  return a;
-}
 
 json hz(const std::optional<double>& w_rad_s) {
   return w_rad_s ? number(*w_rad_s / kTwoPi) : json(nullptr);
@@ -78,22 +72,62 @@ std::string polynomial_text(const std::vector<double>& d, char var) {
   return out.empty() ? "0" : out;
 }
 
-json analyze(const b::TransferFunction& g, const AnalyzeRequest& req) {
-  check_output_path(req.bode_png, "--bode");
-  check_output_path(req.step_png, "--step-plot");
-  json r;
+json roots_json(const std::vector<b::Complex>& roots) {
+  json a = json::array();
+  for (const auto& r : roots) a.push_back({r.real(), r.imag()});
+  return a;
+}
+
+json max_real_pole(const std::vector<b::Complex>& poles, double ts) {
+  double m = -INFINITY;
+  for (const b::Complex& p : poles) m = std::max(m, (ts > 0.0 ? std::log(p) / ts : p).real());
+  return number(m);
+}
+
+DiagramTransfer diagram_transfer(const diagrams::Diagram& d, const std::string& from, const std::string& to,
+                                 const std::string& loop_at) {
+  const b::SparseStateSpace ss =
+      loop_at.empty() ? diagrams::linearize_sparse(d, from, to) : diagrams::loop_transfer_sparse(d, loop_at);
+  if (ss.num_inputs() != 1 || ss.num_outputs() != 1)
+    throw InputError("analysis needs scalar signals: the model has " + std::to_string(ss.num_inputs()) + " inputs and " +
+                     std::to_string(ss.num_outputs()) + " outputs");
+  b::Siso g = b::Siso::from_state_space(ss);
+  const b::Stability internal = b::stability(g.modes(), ss.is_discrete());
+  return {std::move(g), internal, ss.num_states()};
+}
+
+void add_interconnection(json& report, const DiagramTransfer& t) {
+  // `stable`: the analysed transfer; `internally_stable`: every mode of the
+  // interconnection, including those the two signals do not see.
+  report["internally_stable"] = t.internal == b::Stability::Stable;
+  report["internal_stability"] = b::to_string(t.internal);
+  report["states"] = t.states;
+  report["factors"] = t.transfer.factors();
+}
+
+namespace {
+
+// What the transfer is: coefficients (when representable), poles, zeros, DC gain, and
+// the stability verdict (blocks::stability: marginal for a simple pole on the boundary).
+void describe(json& r, const b::Siso& g) {
+  const b::Zpk& z = g.zpk();
   r["continuous"] = !g.is_discrete();
   r["ts"] = g.ts();
-  r["num"] = g.num().descending();
-  r["den"] = g.den().descending();
-  r["order"] = g.order();
-  r["proper"] = g.is_proper();
-  r["poles"] = roots_json(g.poles());
-  r["zeros"] = roots_json(g.zeros());
-  r["dc_gain"] = number(g.dc_gain());
-  r["stable"] = g.is_stable();
+  r["num"] = g.tf() ? json(g.tf()->num().descending()) : json(nullptr);
+  r["den"] = g.tf() ? json(g.tf()->den().descending()) : json(nullptr);
+  r["order"] = z.order();
+  r["proper"] = z.is_zero() || z.relative_degree() >= 0;
+  r["poles"] = roots_json(z.all_poles());
+  r["zeros"] = roots_json(z.is_zero() ? std::vector<b::Complex>{} : z.all_zeros());
+  r["hidden_poles"] = roots_json(g.hidden());
+  r["dc_gain"] = number(z.dc_gain());
+  const b::Stability st = b::stability(z);
+  r["stable"] = st == b::Stability::Stable;
+  r["stability"] = b::to_string(st);
+}
 
-  const b::Margins m = b::margins(g);
+void add_margins(json& r, const b::Zpk& z) {
+  const b::Margins m = b::margins(z);
   r["gain_margin_db"] = number(m.gain_margin_db);
   r["phase_crossover_hz"] = hz(m.phase_crossover_rad_s);
   r["phase_margin_deg"] = number(m.phase_margin_deg);
@@ -104,83 +138,93 @@ json analyze(const b::TransferFunction& g, const AnalyzeRequest& req) {
   all = json::array();
   for (const auto& c : m.phase_crossovers) all.push_back({{"freq_hz", c.w_rad_s / kTwoPi}, {"gain_margin_db", c.margin}});
   r["phase_crossovers"] = all;
-  r["bandwidth_hz"] = hz(b::bandwidth(g));
+  r["bandwidth_hz"] = hz(b::bandwidth(z));
+}
 
-  // Bode: the requested points, or an automatic grid when only a plot is asked for.
+json bode_json(const b::Zpk& z, const std::vector<double>& freq_hz) {
   std::vector<double> w;
-  for (double f : req.freq_hz) w.push_back(f * kTwoPi);
-  if (!w.empty()) {
-    const b::Bode bd = b::bode(g, w);
-    json j;
-    j["freq_hz"] = req.freq_hz;
-    json mag = json::array(), ph = json::array();
-    for (size_t k = 0; k < w.size(); ++k) {
-      mag.push_back(number(bd.mag_db[k]));
-      ph.push_back(number(bd.phase_deg[k]));
-    }
-    j["mag_db"] = mag;
-    j["phase_deg"] = ph;
-    r["bode"] = j;
+  for (double f : freq_hz) w.push_back(f * kTwoPi);
+  const b::Bode bd = b::bode(z, w);
+  json mag = json::array(), ph = json::array();
+  for (size_t k = 0; k < w.size(); ++k) {
+    mag.push_back(number(bd.mag_db[k]));
+    ph.push_back(number(bd.phase_deg[k]));
   }
+  return {{"freq_hz", freq_hz}, {"mag_db", mag}, {"phase_deg", ph}};
+}
 
-  const bool need_ss = req.step.has_value() || !req.step_png.empty();
-  if (need_ss && !g.is_proper())
+json step_json(const b::Siso& g, double t_end, int n) {
+  const b::Siso::Step st = g.step(t_end, n);
+  json y = json::array();
+  for (Eigen::Index k = 0; k < st.response.y.rows(); ++k) y.push_back(number(st.response.y(k, 0)));
+  return {{"t", st.response.t},
+          {"y", y},
+          {"rise_time_s", number(st.info.rise_time_s)},
+          {"settling_time_s", number(st.info.settling_time_s)},
+          {"overshoot_pct", number(st.info.overshoot_pct)},
+          {"final_value", number(st.info.final_value)},
+          {"peak", number(st.info.peak)},
+          {"peak_time_s", number(st.info.peak_time_s)}};
+}
+
+json c2d_json(const b::TransferFunction& g, const AnalyzeRequest& req) {
+  if (g.is_discrete()) throw InputError("--c2d: the system is already discrete (an expression in z)");
+  if (!g.is_proper()) throw InputError("--c2d needs a proper transfer function");
+  const double prewarp = req.prewarp_hz * kTwoPi;
+  const b::TransferFunction gd = b::c2d(g, req.c2d_ts, *req.c2d, prewarp);
+  json j;
+  j["method"] = b::to_string(*req.c2d);
+  j["ts"] = req.c2d_ts;
+  if (req.prewarp_hz > 0.0) j["prewarp_hz"] = req.prewarp_hz;
+  j["num"] = gd.num().descending();
+  j["den"] = gd.den().descending();
+  // The images of the continuous poles: exact, and better conditioned than the roots
+  // of the discrete denominator.
+  std::vector<b::Complex> pd;
+  for (const b::Complex& p : g.poles()) pd.push_back(b::c2d_pole(p, req.c2d_ts, *req.c2d, prewarp));
+  b::sort_roots(pd);
+  j["poles"] = roots_json(pd);
+  j["zeros"] = roots_json(gd.zeros());
+  j["stable"] = gd.is_stable();
+  return j;
+}
+
+}  // namespace
+
+json analyze(const b::Siso& g, const AnalyzeRequest& req) {
+  check_output_path(req.bode_png, "--bode");
+  check_output_path(req.step_png, "--step-plot");
+  json r;
+  describe(r, g);
+  add_margins(r, g.zpk());
+  if (!req.freq_hz.empty()) r["bode"] = bode_json(g.zpk(), req.freq_hz);
+  const bool need_step = req.step.has_value() || !req.step_png.empty();
+  if (need_step && !g.realisation()) {
     throw InputError("a step response needs a proper transfer function (numerator degree " +
-                     std::to_string(g.num().degree()) + " > denominator degree " + std::to_string(g.den().degree()) + ")");
-  if (req.step) {
-    const b::StateSpace ss = b::StateSpace::from_tf(g);
-    const b::TimeResponse tr = b::step(ss, req.step->first, req.step->second);
-    const b::StepInfo si = b::step_info(ss, tr);
-    json j;
-    j["t"] = tr.t;
-    json y = json::array();
-    for (Eigen::Index k = 0; k < tr.y.rows(); ++k) y.push_back(number(tr.y(k, 0)));
-    j["y"] = y;
-    j["rise_time_s"] = number(si.rise_time_s);
-    j["settling_time_s"] = number(si.settling_time_s);
-    j["overshoot_pct"] = number(si.overshoot_pct);
-    j["final_value"] = number(si.final_value);
-    j["peak"] = number(si.peak);
-    j["peak_time_s"] = number(si.peak_time_s);
-    r["step"] = j;
+                     std::to_string(g.tf()->num().degree()) + " > denominator degree " +
+                     std::to_string(g.tf()->den().degree()) + ")");
   }
-
+  if (req.step) r["step"] = step_json(g, req.step->first, req.step->second);
   if (req.c2d) {
-    if (g.is_discrete()) throw InputError("--c2d: the system is already discrete (an expression in z)");
-    if (!g.is_proper()) throw InputError("--c2d needs a proper transfer function");
-    const b::TransferFunction gd = b::c2d(g, req.c2d_ts, *req.c2d, req.prewarp_hz * kTwoPi);
-    json j;
-    j["method"] = b::to_string(*req.c2d);
-    j["ts"] = req.c2d_ts;
-    if (req.prewarp_hz > 0.0) j["prewarp_hz"] = req.prewarp_hz;
-    j["num"] = gd.num().descending();
-    j["den"] = gd.den().descending();
-    // The images of the continuous poles: exact, and better conditioned than the roots
-    // of the discrete denominator.
-    std::vector<b::Complex> pd;
-    for (const b::Complex& p : g.poles()) pd.push_back(b::c2d_pole(p, req.c2d_ts, *req.c2d, req.prewarp_hz * kTwoPi));
-    std::sort(pd.begin(), pd.end(), [](const b::Complex& x, const b::Complex& y) {
-      return x.real() != y.real() ? x.real() < y.real() : x.imag() < y.imag();
-    });
-    j["poles"] = roots_json(pd);
-    j["zeros"] = roots_json(gd.zeros());
-    j["stable"] = gd.is_stable();
-    r["discrete"] = j;
+    if (!g.tf())
+      throw InputError("--c2d needs the transfer function's coefficients, and those of this order-" +
+                       std::to_string(g.zpk().order()) + " transfer overflow double precision");
+    r["discrete"] = c2d_json(*g.tf(), req);
   }
   return r;
 }
 
-void write_plots(const b::TransferFunction& g, const json& r, const AnalyzeRequest& req) {
+void write_plots(const b::Siso& g, const json& r, const AnalyzeRequest& req) {
   const std::string title = req.title.empty() ? "G" : req.title;
   if (!req.bode_png.empty()) {
     // A dense grid: over the requested frequencies' span when they span one, else two
     // decades beyond the poles and zeros.
-    std::vector<double> w = b::default_frequency_grid(g, 600);
+    std::vector<double> w = b::default_frequency_grid(g.zpk(), 600);
     if (!req.freq_hz.empty()) {
       const auto [lo, hi] = std::minmax_element(req.freq_hz.begin(), req.freq_hz.end());
       if (*hi > *lo) w = b::logspace(*lo * kTwoPi, *hi * kTwoPi, 600);
     }
-    const b::Bode bd = b::bode(g, w);
+    const b::Bode bd = b::bode(g.zpk(), w);
     std::vector<double> f(w.size());
     for (size_t k = 0; k < w.size(); ++k) f[k] = w[k] / kTwoPi;
     std::optional<double> gc, pc;
@@ -190,51 +234,63 @@ void write_plots(const b::TransferFunction& g, const json& r, const AnalyzeReque
     viz::bode_figure(f, bd.mag_db, bd.phase_deg, "Bode: " + title, gc, pc).save_png(req.bode_png);
   }
   if (!req.step_png.empty()) {
-    const b::StateSpace ss = b::StateSpace::from_tf(g);
-    b::TimeResponse tr;
-    if (req.step) {
-      tr = b::step(ss, req.step->first, req.step->second);
-    } else {
-      tr = b::step(ss, b::default_step_horizon(ss), 1000);
-    }
-    std::vector<double> y(static_cast<size_t>(tr.y.rows()));
-    for (size_t k = 0; k < y.size(); ++k) y[k] = tr.y(static_cast<Eigen::Index>(k), 0);
-    std::optional<double> fv;
-    if (auto dc = g.dc_gain(); dc && g.is_stable()) fv = *dc;
-    viz::step_figure(tr.t, y, "Step response: " + title, fv).save_png(req.step_png);
+    const b::Siso::Step st = req.step ? g.step(req.step->first, req.step->second) : g.step(g.default_step_horizon(), 1000);
+    std::vector<double> y(static_cast<size_t>(st.response.y.rows()));
+    for (size_t k = 0; k < y.size(); ++k) y[k] = st.response.y(static_cast<Eigen::Index>(k), 0);
+    viz::step_figure(st.response.t, y, "Step response: " + title, st.info.final_value).save_png(req.step_png);
   }
 }
+
+namespace {
+
+// Roots, each conjugate pair once, runs of equal roots as one line with their count.
+void list_roots(std::ostringstream& o, const char* name, const json& list, char var) {
+  o << name << ":";
+  if (list.empty()) o << " none";
+  o << "\n";
+  for (size_t k = 0; k < list.size();) {
+    const double re = list[k][0].get<double>(), im = list[k][1].get<double>();
+    size_t n = 1;
+    while (k + n < list.size() && list[k + n][0].get<double>() == re && list[k + n][1].get<double>() == im) ++n;
+    k += n;
+    if (im < 0) continue;  // print each conjugate pair once
+    o << "  " << fmt_num(re);
+    if (im > 0) o << " ± " << fmt_num(im) << "j";
+    if (var == 's') {
+      const double wn = std::hypot(re, im);
+      if (wn > 0) o << fmt::format("   (|p| = {} rad/s = {} Hz, zeta = {:.4g})", fmt_num(wn), fmt_num(wn / kTwoPi), -re / wn);
+    } else {
+      o << fmt::format("   (|z| = {:.6g})", std::hypot(re, im));
+    }
+    if (n > 1) o << "   x " << n;
+    o << "\n";
+  }
+}
+
+const char* stability_text(const std::string& s) {
+  return s == "stable" ? "stable" : s == "marginal" ? "marginally stable" : "not stable";
+}
+
+}  // namespace
 
 std::string summary(const json& r) {
   std::ostringstream o;
   const char var = r["continuous"].get<bool>() ? 's' : 'z';
-  const std::string num = polynomial_text(r["num"].get<std::vector<double>>(), var);
-  const std::string den = polynomial_text(r["den"].get<std::vector<double>>(), var);
-  o << "G(" << var << ") = (" << num << ") / (" << den << ")";
+  if (r["num"].is_null()) {
+    o << "G(" << var << "): order " << r["order"].get<int>()
+      << " (its coefficients exceed double precision: see the poles and zeros)";
+  } else {
+    o << "G(" << var << ") = (" << polynomial_text(r["num"].get<std::vector<double>>(), var) << ") / ("
+      << polynomial_text(r["den"].get<std::vector<double>>(), var) << ")";
+  }
   if (!r["continuous"].get<bool>()) o << "   [ts = " << fmt_num(r["ts"].get<double>()) << " s]";
   o << "\n";
   o << "order " << r["order"].get<int>() << ", " << (r["proper"].get<bool>() ? "proper" : "improper") << ", "
-    << (r["stable"].get<bool>() ? "stable" : "not stable") << "\n";
-  auto roots = [&](const char* name, const json& list) {
-    o << name << ":";
-    if (list.empty()) o << " none";
-    o << "\n";
-    for (const auto& p : list) {
-      const double re = p[0].get<double>(), im = p[1].get<double>();
-      if (im < 0) continue;  // print each conjugate pair once
-      o << "  " << fmt_num(re);
-      if (im > 0) o << " ± " << fmt_num(im) << "j";
-      if (var == 's') {
-        const double wn = std::hypot(re, im);
-        if (wn > 0) o << fmt::format("   (|p| = {} rad/s = {} Hz, zeta = {:.4g})", fmt_num(wn), fmt_num(wn / kTwoPi), -re / wn);
-      } else {
-        o << fmt::format("   (|z| = {:.6g})", std::hypot(re, im));
-      }
-      o << "\n";
-    }
-  };
-  roots("poles", r["poles"]);
-  roots("zeros", r["zeros"]);
+    << stability_text(r["stability"].get<std::string>()) << "\n";
+  list_roots(o, "poles", r["poles"], var);
+  list_roots(o, "zeros", r["zeros"], var);
+  if (!r["hidden_poles"].empty())
+    o << r["hidden_poles"].size() << " more mode(s) the transfer does not see (hidden_poles in --json)\n";
   if (r["dc_gain"].is_null()) {
     o << "DC gain: infinite\n";
   } else {

@@ -1,14 +1,16 @@
 #pragma once
-// `dmbd analyze`: the analysis report of one SISO transfer function, as JSON, as a
-// readable summary, and as plots. Diagram analysis (a later issue) reduces a diagram
-// to a transfer function between two signals and reuses this report.
+// `dmbd analyze`: the analysis report of one SISO transfer (a transfer function, or the
+// transfer between two signals of a diagram, of any size), as JSON, as a readable
+// summary, and as plots.
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "dmbd/blocks/discretize.hpp"
-#include "dmbd/blocks/transfer_function.hpp"
+#include "dmbd/blocks/siso.hpp"
+#include "dmbd/blocks/zpk.hpp"
+#include "dmbd/diagrams/diagram.hpp"
 
 namespace dmbd::apps {
 
@@ -22,15 +24,35 @@ struct AnalyzeRequest {
   std::string title;                     // plot titles
 };
 
-// Computes every figure of the report. Throws InputError when the request does not
-// fit the system (an improper TF where a step response or c2d is asked for).
-nlohmann::json analyze(const blocks::TransferFunction& g, const AnalyzeRequest& req);
+// A diagram's transfer between two signals (`loop_at` empty) or its loop transfer at
+// `loop_at`, taken apart in state space (blocks::Siso), with the verdict on every mode
+// of the interconnection (`internal`: those the transfer does not see included).
+// InputError unless both signals are scalar.
+struct DiagramTransfer {
+  blocks::Siso transfer;
+  blocks::Stability internal;
+  int states;
+};
+DiagramTransfer diagram_transfer(const diagrams::Diagram& d, const std::string& from, const std::string& to,
+                                 const std::string& loop_at);
+// The report's keys about the interconnection: internally_stable, internal_stability,
+// states, factors.
+void add_interconnection(nlohmann::json& report, const DiagramTransfer& t);
+
+// Computes every figure of the report (docs/analyze.md). Throws InputError when the
+// request does not fit the system (an improper TF where a step response or c2d is
+// asked for).
+nlohmann::json analyze(const blocks::Siso& g, const AnalyzeRequest& req);
 // Writes the requested plots from a report (atomically; nothing is written if a
 // target folder does not exist).
-void write_plots(const blocks::TransferFunction& g, const nlohmann::json& report, const AnalyzeRequest& req);
+void write_plots(const blocks::Siso& g, const nlohmann::json& report, const AnalyzeRequest& req);
 // A readable multi-line summary of a report.
 std::string summary(const nlohmann::json& report);
 // Descending-power polynomial as text in `var`, e.g. "s^2 + 533.1 s + 1.421e+05".
 std::string polynomial_text(const std::vector<double>& descending, char var);
+// Poles as [re, im] pairs, and the largest real part of their s-plane equivalents
+// (log(z)/ts for a discrete system); null when there are none.
+nlohmann::json roots_json(const std::vector<blocks::Complex>& roots);
+nlohmann::json max_real_pole(const std::vector<blocks::Complex>& poles, double ts);
 
 }  // namespace dmbd::apps

@@ -13,7 +13,6 @@
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/diagram_source.hpp"
-#include "dmbd/diagrams/linearize.hpp"
 
 namespace dmbd::apps {
 
@@ -46,11 +45,11 @@ namespace {
 // What is analysed: a transfer function, and for a diagram the diagram and figures of
 // the whole interconnection.
 struct System {
-  std::optional<b::TransferFunction> tf;
+  std::optional<b::Siso> tf;
   std::shared_ptr<const diagrams::DiagramSource> source;  // parsed once: --sweep evaluates it again
   std::shared_ptr<const diagrams::Diagram> diagram;
-  bool discrete = false, internally_stable = true;
-  int states = 0;
+  std::optional<DiagramTransfer> interconnection;  // a diagram's
+  bool discrete = false;
   std::string title;
 };
 
@@ -69,7 +68,7 @@ System read_tf(const Args& a, const b::ParameterMap& params, double ts) {
   }
   if (ts > 0.0 && !s.discrete && a.c2d.empty()) throw InputError("--ts is used with --c2d or with an expression in z");
   try {
-    s.tf = b::TransferFunction::parse(a.tf, params, s.discrete ? ts : 0.0);
+    s.tf = b::Siso::from_tf(b::TransferFunction::parse(a.tf, params, s.discrete ? ts : 0.0));
   } catch (InputError& e) {
     e.prepend("--tf '" + a.tf + "': ");
     throw;
@@ -87,14 +86,8 @@ System read_diagram(const Args& a, const b::ParameterMap& params) {
   s.diagram = s.source->evaluate(params);
   s.discrete = s.diagram->is_discrete();
   if (!a.ts.empty() && a.c2d.empty()) throw InputError("--ts is used with --c2d");
-  const b::StateSpace ss = a.loop_at.empty() ? diagrams::linearize(*s.diagram, a.from, a.to)
-                                             : diagrams::loop_transfer(*s.diagram, a.loop_at);
-  if (ss.num_inputs() != 1 || ss.num_outputs() != 1)
-    throw InputError("analysis needs scalar signals: the model has " + std::to_string(ss.num_inputs()) + " inputs and " +
-                     std::to_string(ss.num_outputs()) + " outputs");
-  s.internally_stable = internally_stable(ss);
-  s.states = ss.num_states();
-  s.tf = ss.minimal(1e-10).to_tf();
+  s.interconnection = diagram_transfer(*s.diagram, a.from, a.to, a.loop_at);
+  s.tf = s.interconnection->transfer;
   s.title = s.diagram->name() + (a.loop_at.empty() ? ": " + a.from + " -> " + a.to : ": loop at " + a.loop_at);
   return s;
 }
@@ -159,10 +152,7 @@ void describe_source(nlohmann::json& report, const Args& a, const System& s, con
     return;
   }
   report["diagram"] = a.diagram;
-  // `stable`: the analysed transfer (its minimal realisation); `internally_stable`:
-  // every mode of the interconnection, including those the two signals do not see.
-  report["internally_stable"] = s.internally_stable;
-  report["states"] = s.states;
+  add_interconnection(report, *s.interconnection);
   if (a.loop_at.empty()) {
     report["from"] = a.from;
     report["to"] = a.to;
@@ -194,7 +184,7 @@ int AnalyzeCommand::run() {
   AnalyzeRequest req;
   req.title = s.title;
   parse_discretisation(a, params, s, ts, req);
-  const b::TransferFunction& g = *s.tf;
+  const b::Siso& g = *s.tf;
   if (s.discrete) ts = g.ts();
   parse_frequencies(a, params, s.discrete ? 0.5 / ts : INFINITY, req);
   parse_step(a, params, req);

@@ -4,25 +4,16 @@
 #include <cmath>
 #include <sstream>
 
+#include "analyze.hpp"
 #include "cli_values.hpp"
 #include "dmbd/base/error.hpp"
 #include "dmbd/blocks/frequency.hpp"
-#include "dmbd/diagrams/linearize.hpp"
+#include "dmbd/blocks/zpk.hpp"
 
 namespace dmbd::apps {
 
 namespace b = dmbd::blocks;
 using nlohmann::json;
-
-bool internally_stable(const b::StateSpace& ss) {
-  double scale = 1.0;
-  const auto poles = ss.poles();
-  for (const auto& p : poles) scale = std::max(scale, std::abs(p));
-  for (const auto& p : poles) {
-    if (ss.is_discrete() ? !(std::abs(p) < 1.0 - 1e-12) : !(p.real() < -1e-12 * scale)) return false;
-  }
-  return true;
-}
 
 Sweep parse_sweep(const std::string& text, const diagrams::Diagram& d, const b::ParameterMap& params) {
   const auto eq = text.find('=');
@@ -49,22 +40,17 @@ Sweep parse_sweep(const std::string& text, const diagrams::Diagram& d, const b::
 namespace {
 
 json sweep_point(const diagrams::Diagram& d, double value, const TransferChoice& c) {
-  const b::StateSpace ss = c.loop_at.empty() ? diagrams::linearize(d, c.from, c.to) : diagrams::loop_transfer(d, c.loop_at);
-  const b::TransferFunction g = ss.minimal(1e-10).to_tf();
-  double max_re = -INFINITY;
-  json poles = json::array();
-  for (const auto& z : g.poles()) {
-    const b::Complex s = d.is_discrete() ? std::log(z) / d.ts() : z;
-    max_re = std::max(max_re, s.real());
-    poles.push_back({z.real(), z.imag()});
-  }
-  const auto dc = g.dc_gain();
-  const auto bw = b::bandwidth(g);
+  const DiagramTransfer t = diagram_transfer(d, c.from, c.to, c.loop_at);
+  const b::Zpk& z = t.transfer.zpk();
+  const b::Stability st = b::stability(z);
+  const std::vector<b::Complex> poles = z.all_poles();
+  const std::optional<double> dc = z.dc_gain(), bw = b::bandwidth(z);
   return {{"value", value},
-          {"stable", g.is_stable()},
-          {"internally_stable", internally_stable(ss)},
-          {"poles", poles},
-          {"max_real_pole", std::isfinite(max_re) ? json(max_re) : json(nullptr)},
+          {"stable", st == b::Stability::Stable},
+          {"stability", b::to_string(st)},
+          {"internally_stable", t.internal == b::Stability::Stable},
+          {"poles", roots_json(poles)},
+          {"max_real_pole", max_real_pole(poles, z.ts())},
           {"dc_gain", dc ? json(*dc) : json(nullptr)},
           {"bandwidth_hz", bw ? json(*bw / (2 * M_PI)) : json(nullptr)}};
 }

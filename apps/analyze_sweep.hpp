@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "dmbd/blocks/expression.hpp"
-#include "dmbd/blocks/state_space.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/diagram_source.hpp"
 
@@ -25,15 +24,12 @@ struct TransferChoice {
   std::string from, to, loop_at;
 };
 
-// One JSON object per value: value, stable, internally_stable, poles, max_real_pole,
-// dc_gain, bandwidth_hz. The source is evaluated at each value (its file is not read
+// One JSON object per value: value, stable, stability, internally_stable, poles,
+// max_real_pole, dc_gain, bandwidth_hz (the transfer taken apart as for the report:
+// apps::diagram_transfer). The source is evaluated at each value (its file is not read
 // again).
 nlohmann::json run_sweep(const diagrams::DiagramSource& source, const blocks::ParameterMap& params, const Sweep& sweep,
                          const TransferChoice& choice);
-
-// Every mode of an interconnection decays, with marginal modes (an integrator that the
-// analysed signals do not see, computed as +-1e-16) counted as not decaying.
-bool internally_stable(const blocks::StateSpace& ss);
 
 // "sweep of K over 20 values: 3 unstable, largest real part of a pole 0.5".
 std::string sweep_summary(const nlohmann::json& report);

@@ -269,7 +269,6 @@ Margins margins(const TransferFunction& loop) {
   // Phase crossovers: Im N(jv) D(-jv) = 0 with the real part negative.
   const Polynomial q = n * d.negated_argument();
   std::vector<double> pc = positive_sqrt_roots(odd_part_in_w2(q));
-  pc.insert(pc.begin(), 0.0);  // DC is a phase crossover if L(0) is real negative
 
   for (double v : gc) {
     v = refine(af, v, true, 0.0);
@@ -285,10 +284,15 @@ Margins margins(const TransferFunction& loop) {
     out.phase_crossovers.push_back({w, -20.0 * std::log10(std::abs(l))});
   };
   for (double v : pc) {
-    if (v > 0.0) v = refine(af, v, false, M_PI);
+    v = refine(af, v, false, M_PI);
     const double w = af.to_w(v);
     add_phase_crossover(w, loop.evaluate(point(loop, w)));
   }
+  // DC is a phase crossover when L(0) is finite (no pole at s = 0, z = 1, as dc_gain()
+  // decides it) and negative: evaluating num/den there would turn a pole at z = 1 into
+  // a huge finite value (issue 13: -279 dB at 0 Hz).
+  if (const auto dc = loop.dc_gain(); dc && *dc < 0.0)
+    out.phase_crossovers.push_back({0.0, -20.0 * std::log10(-*dc)});
   if (loop.is_discrete()) add_phase_crossover(M_PI / loop.ts(), loop.evaluate(Complex(-1.0, 0.0)));
 
   auto by_w = [](const Crossing& a, const Crossing& b) { return a.w_rad_s < b.w_rad_s; };

@@ -3,8 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
-#include <functional>
 #include <string>
 
 #include "dmbd/blocks/error.hpp"
@@ -69,17 +69,34 @@ StateSpace StateSpace::from_tf(const TransferFunction& tf) {
   if (!tf.is_proper())
     throw InputError("an improper transfer function (numerator degree " + std::to_string(tf.num().degree()) +
                      " > denominator degree " + std::to_string(tf.den().degree()) + ") has no state-space realisation");
-  const int n = tf.order();
-  const Polynomial& den = tf.den();  // monic
-  const double d = tf.num()[n];
-  const Polynomial r = tf.num() - d * den;  // strictly proper part's numerator
-  Matrix a = Matrix::Zero(n, n), b = Matrix::Zero(n, 1), c = Matrix::Zero(1, n), dm(1, 1);
-  for (int j = 0; j < n; ++j) {
-    a(0, j) = -den[n - 1 - j];
-    c(0, j) = r[n - 1 - j];
+  // den = (x - x0)^k q: q(x) eta = u in controllable canonical form (states eta^(r-1) ..
+  // eta), then zeta_j = eta / (x - x0)^j through k states with A(j, j) = x0 exactly.
+  const double x0 = tf.is_discrete() ? 1.0 : 0.0;
+  const auto [q, k] = tf.den().without_root(x0);  // q monic, as den
+  const int r = q.degree(), n = r + k;
+  // num = (x - x0)^k beta + sum_j alpha_j (x - x0)^j (Taylor coefficients at x0), so
+  // y = num xi = beta(x) eta + sum_j alpha_j zeta_(k-j), xi = zeta_k.
+  Polynomial beta = tf.num();
+  std::vector<double> alpha(static_cast<size_t>(k));
+  for (int j = 0; j < k; ++j) {
+    const auto [quot, rem] = Polynomial::divide(beta, Polynomial({-x0, 1.0}));
+    alpha[static_cast<size_t>(j)] = rem[0];
+    beta = quot;
   }
-  for (int i = 1; i < n; ++i) a(i, i - 1) = 1.0;
-  if (n > 0) b(0, 0) = 1.0;
+  const double d = beta[r];  // eta^(r) = u - sum q_i eta^(i)
+  Matrix a = Matrix::Zero(n, n), b = Matrix::Zero(n, 1), c = Matrix::Zero(1, n), dm(1, 1);
+  for (int i = 0; i < r; ++i) {
+    a(0, i) = -q[r - 1 - i];
+    c(0, i) = beta[r - 1 - i] - d * q[r - 1 - i];
+    if (i > 0) a(i, i - 1) = 1.0;
+  }
+  for (int j = 1; j <= k; ++j) {
+    const int s = r + j - 1;
+    a(s, s) = x0;
+    if (s > 0) a(s, s - 1) = 1.0;
+    c(0, s) = alpha[static_cast<size_t>(k - j)];
+  }
+  if (n > 0) b(0, 0) = 1.0;  // e_0' = u, or zeta_1' = x0 zeta_1 + u when r = 0
   dm(0, 0) = d;
   return StateSpace(a, b, c, dm, tf.ts()).balanced();
 }
@@ -87,11 +104,19 @@ StateSpace StateSpace::from_tf(const TransferFunction& tf) {
 TransferFunction StateSpace::to_tf(int out, int in) const {
   if (out < 0 || out >= num_outputs() || in < 0 || in >= num_inputs())
     throw InputError("no channel from input " + std::to_string(in) + " to output " + std::to_string(out));
-  const int n = num_states();
-  const double d = d_(out, in);
-  if (n == 0) return TransferFunction(d, ts_);
+  if (num_states() == 0) return TransferFunction(d_(out, in), ts_);
   const std::vector<Complex> ev = poles();
-  const Polynomial den = Polynomial::from_roots(ev, 1.0);
+  return TransferFunction(numerator(ev, out, in), Polynomial::from_roots(ev, 1.0), ts_);
+}
+
+Polynomial StateSpace::numerator(const std::vector<Complex>& ev, int out, int in) const {
+  if (out < 0 || out >= num_outputs() || in < 0 || in >= num_inputs())
+    throw InputError("no channel from input " + std::to_string(in) + " to output " + std::to_string(out));
+  const int n = num_states();
+  if (static_cast<int>(ev.size()) != n)
+    throw InputError("numerator: " + std::to_string(ev.size()) + " poles given for " + std::to_string(n) + " states");
+  const double d = d_(out, in);
+  if (n == 0) return Polynomial::constant(d);
   // Numerator by interpolation: num(x_k) = G(x_k) * prod(x_k - lambda_i) at n+1 points
   // on a circle, then an inverse DFT. Every value is computed to full relative
   // precision (G by a linear solve, the determinant in product form), so the
@@ -143,19 +168,19 @@ TransferFunction StateSpace::to_tf(int out, int in) const {
   // zeros (CB = 0 for a relative degree of 2, a zero at the origin): make them exact.
   for (int j = 0; j < np; ++j)
     if (std::abs(c[static_cast<size_t>(j)]) * std::pow(r, j) <= 1e-12 * biggest) c[static_cast<size_t>(j)] = 0.0;
-  return TransferFunction(Polynomial(std::move(c)), den, ts_);
+  return Polynomial(std::move(c));
 }
 
 std::vector<Complex> StateSpace::poles() const {
-  if (num_states() == 0) return {};
-  const Vector d = balancing_scales(a_);
-  const Matrix bal = d.cwiseInverse().asDiagonal() * a_ * d.asDiagonal();
-  Eigen::EigenSolver<Matrix> es(bal, false);
-  if (es.info() != Eigen::Success) throw InputError("eigenvalue computation did not converge");
-  std::vector<Complex> ev(es.eigenvalues().data(), es.eigenvalues().data() + es.eigenvalues().size());
-  std::sort(ev.begin(), ev.end(), [](const Complex& x, const Complex& y) {
-    return x.real() != y.real() ? x.real() < y.real() : x.imag() < y.imag();
-  });
+  std::vector<Complex> ev;
+  for (const std::vector<int>& g : state_groups(a_)) {
+    Matrix block(g.size(), g.size());
+    for (size_t i = 0; i < g.size(); ++i)
+      for (size_t j = 0; j < g.size(); ++j) block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = a_(g[i], g[j]);
+    const std::vector<Complex> part = group_eigenvalues(block, is_discrete());
+    ev.insert(ev.end(), part.begin(), part.end());
+  }
+  sort_roots(ev);
   return ev;
 }
 
@@ -278,8 +303,12 @@ StateSpace feedback(const StateSpace& f, const StateSpace& h, int sign) {
     throw InputError("algebraic loop: I - sign*D_forward*D_feedback is singular, the feedback connection is ill-posed");
   Matrix cx(ny, nf + nh);
   cx << f.c(), s * f.d() * h.c();
-  const Matrix cy = lu.solve(cx);      // y = Cy x + Dy r
-  const Matrix dy = lu.solve(f.d());
+  // Eigen's triangular solve binds a reference to the first coefficient even of an
+  // empty right-hand side (a null pointer: undefined behaviour, found by UBSan when
+  // neither system has states): solve only what is there.
+  auto solve = [&lu](const Matrix& rhs) { return rhs.size() == 0 ? Matrix(lu.rows(), rhs.cols()) : Matrix(lu.solve(rhs)); };
+  const Matrix cy = solve(cx);  // y = Cy x + Dy r
+  const Matrix dy = solve(f.d());
   Matrix cu0 = Matrix::Zero(nu, nf + nh);
   cu0.rightCols(nh) = s * h.c();
   const Matrix cu = cu0 + s * h.d() * cy;  // u = Cu x + Du r
@@ -292,28 +321,39 @@ StateSpace feedback(const StateSpace& f, const StateSpace& h, int sign) {
   return StateSpace(a, b, cy, dy, f.ts());
 }
 
-// Solve (I - G) u = r where G is sparse: Tarjan's strongly connected components of the
-// dependency graph (u_i depends on u_j when G(i, j) != 0), visited so that every
-// component comes after the ones it depends on.
+// Tarjan's algorithm without recursion (a chain of 10^5 blocks would overflow the
+// stack): `call` holds the depth-first path with each node's next edge. Nodes, edges and
+// components are visited in the same order as the recursive formulation.
 std::vector<std::vector<int>> strongly_connected_components(const std::vector<std::vector<int>>& dep) {
-  const int n = static_cast<int>(dep.size());
-  std::vector<int> index(static_cast<size_t>(n), -1), low(static_cast<size_t>(n), 0), stack;
-  std::vector<bool> on(static_cast<size_t>(n), false);
+  const size_t n = dep.size();
+  std::vector<int> index(n, -1), low(n, 0), stack;
+  std::vector<bool> on(n, false);
   std::vector<std::vector<int>> comps;  // in the order Tarjan closes them: dependencies first
+  std::vector<std::pair<size_t, size_t>> call;
   int counter = 0;
-  std::function<void(int)> visit = [&](int v) {
-    index[static_cast<size_t>(v)] = low[static_cast<size_t>(v)] = counter++;
-    stack.push_back(v);
-    on[static_cast<size_t>(v)] = true;
-    for (int w : dep[static_cast<size_t>(v)]) {
-      if (index[static_cast<size_t>(w)] < 0) {
-        visit(w);
-        low[static_cast<size_t>(v)] = std::min(low[static_cast<size_t>(v)], low[static_cast<size_t>(w)]);
-      } else if (on[static_cast<size_t>(w)]) {
-        low[static_cast<size_t>(v)] = std::min(low[static_cast<size_t>(v)], index[static_cast<size_t>(w)]);
+  auto open = [&](size_t v) {
+    index[v] = low[v] = counter++;
+    stack.push_back(static_cast<int>(v));
+    on[v] = true;
+    call.emplace_back(v, 0);
+  };
+  for (size_t root = 0; root < n; ++root) {
+    if (index[root] >= 0) continue;
+    open(root);
+    while (!call.empty()) {
+      const size_t v = call.back().first;
+      if (call.back().second < dep[v].size()) {
+        const auto w = static_cast<size_t>(dep[v][call.back().second++]);
+        if (index[w] < 0) {
+          open(w);
+        } else if (on[w]) {
+          low[v] = std::min(low[v], index[w]);
+        }
+        continue;
       }
-    }
-    if (low[static_cast<size_t>(v)] == index[static_cast<size_t>(v)]) {
+      call.pop_back();
+      if (!call.empty()) low[call.back().first] = std::min(low[call.back().first], low[v]);
+      if (low[v] != index[v]) continue;
       std::vector<int> comp;
       int w;
       do {
@@ -321,12 +361,10 @@ std::vector<std::vector<int>> strongly_connected_components(const std::vector<st
         stack.pop_back();
         on[static_cast<size_t>(w)] = false;
         comp.push_back(w);
-      } while (w != v);
-      comps.push_back(comp);
+      } while (w != static_cast<int>(v));
+      comps.push_back(std::move(comp));
     }
-  };
-  for (int v = 0; v < n; ++v)
-    if (index[static_cast<size_t>(v)] < 0) visit(v);
+  }
   return comps;
 }
 
@@ -405,6 +443,39 @@ Vector balancing_scales(const Matrix& m) {
     }
   }
   return scale;
+}
+
+std::vector<std::vector<int>> state_groups(const Matrix& a) {
+  const auto n = a.rows();
+  std::vector<std::vector<int>> dep(static_cast<size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (i != j && a(i, j) != 0.0) dep[static_cast<size_t>(i)].push_back(static_cast<int>(j));
+  return strongly_connected_components(dep);
+}
+
+std::vector<Complex> group_eigenvalues(const Matrix& block, bool discrete) {
+  const auto n = block.rows();
+  if (n == 0) return {};
+  if (n == 1) return {Complex(block(0, 0), 0.0)};
+  const Vector d = balancing_scales(block);
+  const Matrix bal = d.cwiseInverse().asDiagonal() * block * d.asDiagonal();
+  Eigen::EigenSolver<Matrix> es(bal, false);
+  if (es.info() != Eigen::Success) throw InputError("eigenvalue computation did not converge");
+  std::vector<Complex> ev(es.eigenvalues().data(), es.eigenvalues().data() + n);
+  // Rounding leaves an integrator inside a group at about 1e-16 times the group's norm:
+  // snap what lies within 1e-10 of it (see StateSpace::poles()).
+  const double x0 = discrete ? 1.0 : 0.0;
+  const double tol = 1e-10 * std::max(bal.norm(), discrete ? 1.0 : 0.0);
+  for (Complex& p : ev)
+    if (std::abs(p - x0) <= tol) p = Complex(x0, 0.0);
+  return ev;
+}
+
+void sort_roots(std::vector<Complex>& roots) {
+  std::sort(roots.begin(), roots.end(), [](const Complex& x, const Complex& y) {
+    return x.real() != y.real() ? x.real() < y.real() : x.imag() < y.imag();
+  });
 }
 
 }  // namespace dmbd::blocks

@@ -149,36 +149,44 @@ TimeResponse lsim(const StateSpace& sys, const Matrix& u, double dt, const Vecto
 
 StepInfo step_info(const StateSpace& sys, const TimeResponse& resp, int out, int in, double settling_fraction,
                    double rise_low, double rise_high) {
-  StepInfo info;
   check_channel(sys, in);
   if (out < 0 || out >= sys.num_outputs() || resp.y.cols() != sys.num_outputs())
     throw InputError("step_info: output index out of range");
-  const size_t n = resp.t.size();
-  if (n < 2 || !sys.is_stable()) return info;
+  if (resp.t.size() < 2 || !sys.is_stable()) return {};
   const StateSpace ch = sys.select({out}, {in});
-  const double final = ch.dc_gain()(0, 0);
-  info.final_value = final;
   // Exact response between samples (continuous): y(t) = C Gamma(t) + D for a unit step
   // from rest; on samples of a discrete system only.
-  const bool exact = !sys.is_discrete();
-  auto y_at = [&](double t) {
-    if (t <= 0.0) return ch.d()(0, 0);
-    const Zoh z = zoh(ch, t);
-    return (ch.c() * z.gamma)(0, 0) + ch.d()(0, 0);
-  };
-  std::vector<double> y(n);
-  for (size_t k = 0; k < n; ++k) y[k] = resp.y(static_cast<Eigen::Index>(k), out);
+  std::function<double(double)> y_at;
+  if (!sys.is_discrete())
+    y_at = [&](double t) {
+      if (t <= 0.0) return ch.d()(0, 0);
+      const Zoh z = zoh(ch, t);
+      return (ch.c() * z.gamma)(0, 0) + ch.d()(0, 0);
+    };
+  std::vector<double> y(resp.t.size());
+  for (size_t k = 0; k < y.size(); ++k) y[k] = resp.y(static_cast<Eigen::Index>(k), out);
+  return step_figures(resp.t, y, ch.dc_gain()(0, 0), y_at, settling_fraction, rise_low, rise_high);
+}
+
+StepInfo step_figures(const std::vector<double>& t, const std::vector<double>& y, double final,
+                      const std::function<double(double)>& y_at, double settling_fraction, double rise_low,
+                      double rise_high) {
+  StepInfo info;
+  const size_t n = t.size();
+  if (n < 2 || y.size() != n) return info;
+  info.final_value = final;
+  const bool exact = static_cast<bool>(y_at);
 
   // Peak.
   size_t kp = 0;
   for (size_t k = 1; k < n; ++k)
     if ((final >= 0 ? y[k] > y[kp] : y[k] < y[kp])) kp = k;
-  double tp = resp.t[kp], yp = y[kp];
+  double tp = t[kp], yp = y[kp];
   if (exact && kp > 0 && kp + 1 < n) {
     const double sgn = final >= 0 ? 1.0 : -1.0;
-    tp = golden_max([&](double t) { return sgn * y_at(t); }, resp.t[kp - 1], resp.t[kp + 1]);
+    tp = golden_max([&](double x) { return sgn * y_at(x); }, t[kp - 1], t[kp + 1]);
     yp = y_at(tp);
-    if (sgn * yp < sgn * y[kp]) tp = resp.t[kp], yp = y[kp];
+    if (sgn * yp < sgn * y[kp]) tp = t[kp], yp = y[kp];
   }
   info.peak = yp;
   info.peak_time_s = tp;
@@ -187,12 +195,12 @@ StepInfo step_info(const StateSpace& sys, const TimeResponse& resp, int out, int
 
   // Crossing time of the normalised response through `level`, between samples.
   auto crossing = [&](size_t k, double level) {  // y[k-1] below level, y[k] at or above (normalised)
-    if (!exact) return resp.t[k];
-    return bisect([&](double t) { return y_at(t) / final - level; }, resp.t[k - 1], resp.t[k]);
+    if (!exact) return t[k];
+    return bisect([&](double x) { return y_at(x) / final - level; }, t[k - 1], t[k]);
   };
   auto first_at_or_above = [&](double level) -> std::optional<double> {
     for (size_t k = 0; k < n; ++k)
-      if (y[k] / final >= level) return k == 0 ? resp.t[0] : crossing(k, level);
+      if (y[k] / final >= level) return k == 0 ? t[0] : crossing(k, level);
     return std::nullopt;
   };
   const auto t_lo = first_at_or_above(rise_low), t_hi = first_at_or_above(rise_high);
@@ -206,23 +214,25 @@ StepInfo step_info(const StateSpace& sys, const TimeResponse& resp, int out, int
       break;
     }
   if (last_out == n) {
-    info.settling_time_s = resp.t[0];
+    info.settling_time_s = t[0];
   } else if (last_out + 1 < n) {
     if (!exact) {
-      info.settling_time_s = resp.t[last_out + 1];
+      info.settling_time_s = t[last_out + 1];
     } else {
       const double side = y[last_out] / final - 1.0 > 0.0 ? settling_fraction : -settling_fraction;
-      info.settling_time_s = bisect([&](double t) { return y_at(t) / final - 1.0 - side; }, resp.t[last_out],
-                                    resp.t[last_out + 1]);
+      info.settling_time_s =
+          bisect([&](double x) { return y_at(x) / final - 1.0 - side; }, t[last_out], t[last_out + 1]);
     }
   }
   return info;
 }
 
-double default_step_horizon(const StateSpace& sys) {
-  double slowest = std::numeric_limits<double>::infinity(), fastest = 0.0;
+double default_step_horizon(const StateSpace& sys) { return step_horizon(sys.poles(), sys.ts()); }
+
+double step_horizon(const std::vector<Complex>& roots, double ts) {
+  double slowest = std::numeric_limits<double>::infinity(), fastest = 0.0, delay = 0.0, spread = 0.0;
   std::vector<Complex> poles;
-  for (const Complex& p : sys.poles()) poles.push_back(sys.is_discrete() ? std::log(p) / sys.ts() : p);
+  for (const Complex& p : roots) poles.push_back(ts > 0.0 ? std::log(p) / ts : p);
   for (const Complex& s : poles)
     if (std::isfinite(std::abs(s))) fastest = std::max(fastest, std::abs(s));
   // A pole whose decay rate is at rounding level against the fastest one is an
@@ -233,6 +243,8 @@ double default_step_horizon(const StateSpace& sys) {
       stable = false;
     } else {
       slowest = std::min(slowest, -s.real());
+      delay += (-1.0 / s).real();  // mean and variance of the impulse response of 1/(1 - s/p)
+      spread += std::max(0.0, (1.0 / (s * s)).real());
     }
   }
   if (!stable) {
@@ -244,11 +256,11 @@ double default_step_horizon(const StateSpace& sys) {
   }
   double t = 1.0;
   if (stable && std::isfinite(slowest)) {
-    t = 7.0 / slowest;
+    t = std::max(7.0 / slowest, delay + 6.0 * std::sqrt(spread));
   } else if (fastest > 0.0) {
     t = 10.0 / fastest;
   }
-  if (sys.is_discrete()) t = std::max(t, 20.0 * sys.ts());
+  if (ts > 0.0) t = std::max(t, 20.0 * ts);
   return std::clamp(t, 1e-6, 1e6);
 }
 

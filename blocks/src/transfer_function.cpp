@@ -1,5 +1,6 @@
 #include "dmbd/blocks/transfer_function.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -52,6 +53,17 @@ std::optional<double> TransferFunction::dc_gain() const {
   if (md > mn) return std::nullopt;
   if (mn > md) return 0.0;
   return n(x0) / d(x0);
+}
+
+std::vector<Complex> TransferFunction::roots_of(const Polynomial& p) const {
+  const double x0 = is_discrete() ? 1.0 : 0.0;
+  const auto [q, k] = p.without_root(x0);
+  std::vector<Complex> r = q.roots();
+  r.insert(r.end(), static_cast<size_t>(k), Complex(x0, 0.0));
+  std::sort(r.begin(), r.end(), [](const Complex& a, const Complex& b) {
+    return a.real() != b.real() ? a.real() < b.real() : a.imag() < b.imag();
+  });
+  return r;
 }
 
 bool TransferFunction::is_stable() const {

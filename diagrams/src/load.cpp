@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <set>
+#include <unordered_map>
 
 #include "dmbd/base/yaml_reader.hpp"
 #include "dmbd/blocks/delay.hpp"
@@ -803,7 +804,7 @@ class Loader {
         return e;
       }
     }
-    const int bi = d_->find_block(bname);
+    const int bi = block_index(bname);
     if (bi < 0) {
       error(at, "unknown block or diagram " + std::string(as_source ? "input" : "output") + " '" + bname + "'");
       return e;
@@ -1026,6 +1027,18 @@ class Loader {
   Diagram* d_ = nullptr;
   b::C2dMethod method_ = b::C2dMethod::Tustin;
   std::set<std::string> broken_;  // blocks with errors: their ports are not checked further
+  std::unordered_map<std::string, int> block_index_;  // name -> block, once the blocks are read
+
+  // Diagram::find_block by hash: a diagram of 10^4 blocks has 10^4 connections (a linear
+  // search each was most of the time of loading it).
+  int block_index(const std::string& name) {
+    if (block_index_.size() != d_->blocks_.size()) {
+      block_index_.clear();
+      for (size_t i = 0; i < d_->blocks_.size(); ++i) block_index_.emplace(d_->blocks_[i].name, static_cast<int>(i));
+    }
+    const auto it = block_index_.find(name);
+    return it == block_index_.end() ? -1 : it->second;
+  }
 };
 
 std::shared_ptr<const Diagram> evaluate_parsed(const ParsedDiagram& parsed, const b::ParameterMap& overrides,

@@ -160,7 +160,9 @@ TEST(StateSpace, AlgebraicLoopThrows) {
   // D_f D_b = -1 with negative feedback: also singular.
   const StateSpace minus_one = StateSpace::gain(-Matrix::Ones(1, 1));
   EXPECT_THROW(feedback(one, minus_one, -1), InputError);
-  // Well posed: negative unity feedback of the static gain 1: y = 1/2 r (exact).
+  // Well posed: negative unity feedback of the static gain 1: y = 1/2 r (exact). Neither
+  // system has states: under UBSan (scripts/sanitize) this caught a null reference in
+  // the LU solve of an empty right-hand side (issue 13, item 12).
   EXPECT_EQ(feedback(one, one).d()(0, 0), 0.5);
 }
 

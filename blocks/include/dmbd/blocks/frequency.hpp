@@ -50,7 +50,8 @@ struct Margins {
 
 // Crossovers found exactly as roots of polynomials in w (continuous) or in the
 // bilinear variable v = tan(w ts / 2) (discrete), then refined by Newton steps on
-// the response itself.
+// the response itself. DC is a phase crossover only when dc_gain() is finite and
+// negative (never at a pole at s = 0 or z = 1).
 Margins margins(const TransferFunction& loop);
 
 // First frequency at which |G| falls drop_db below |G(0)| (default -3 dB, MATLAB's

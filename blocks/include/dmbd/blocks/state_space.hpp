@@ -18,8 +18,11 @@ class StateSpace {
   StateSpace(Matrix a, Matrix b, Matrix c, Matrix d, double ts = 0.0);
   // A static gain (no states).
   static StateSpace gain(const Matrix& d, double ts = 0.0);
-  // Controllable canonical realisation of a proper TF, then balanced by a diagonal
-  // similarity so that badly scaled coefficients do not hurt later arithmetic.
+  // Realisation of a proper TF, balanced by a diagonal similarity so that badly scaled
+  // coefficients do not hurt later arithmetic. With den = (x - x0)^k q (x0 = 0, or 1 for
+  // a discrete TF; the roots at x0 decided by Polynomial::without_root): q in
+  // controllable canonical form, followed by k states with A(i, i) = x0 exactly, so
+  // that an integrator stays an exact eigenvalue wherever the block is interconnected.
   // InputError if improper.
   static StateSpace from_tf(const TransferFunction& tf);
 
@@ -37,6 +40,15 @@ class StateSpace {
   // D + C (sI-A)^-1 B = [det(sI-A+B C) + (D-1) det(sI-A)] / det(sI-A) for one
   // channel, both determinants from eigenvalues.
   TransferFunction to_tf(int out = 0, int in = 0) const;
+  // The numerator of channel (out, in) over prod(x - p_i), p = `poles` (the eigenvalues
+  // of A, as poles() gives them): interpolated at n + 1 points on a circle, as to_tf.
+  Polynomial numerator(const std::vector<Complex>& poles, int out = 0, int in = 0) const;
+  // Eigenvalues of A, found group by group: the states split into strongly connected
+  // groups (x_i depends on x_j when A(i, j) != 0), in which order A is block
+  // triangular, and each group's block is balanced and solved alone (exact for a
+  // one-state group, so a from_tf integrator is exactly 0, or 1 when discrete). An
+  // eigenvalue of a larger group within 1e-10 x (the group's norm; at least 1 when
+  // discrete) of 0 (of 1) is returned as exactly that. Sorted as Polynomial::roots().
   std::vector<Complex> poles() const;
   bool is_stable() const;
   // Steady-state gain D - C A^-1 B (continuous) or D + C (I-A)^-1 B (discrete);
@@ -85,5 +97,14 @@ Matrix solve_in_dependency_order(const Matrix& g, const Matrix& r);
 // Balancing scales for a square matrix (powers of two): returns d with
 // D^-1 M D balanced, D = diag(d).
 Vector balancing_scales(const Matrix& m);
+
+// The strongly connected groups of the states of A (x_i depends on x_j when
+// A(i, j) != 0, i != j), each after the groups it depends on: in that order A is block
+// lower triangular.
+std::vector<std::vector<int>> state_groups(const Matrix& a);
+// Eigenvalues of one group's diagonal block of A, as StateSpace::poles() computes them.
+std::vector<Complex> group_eigenvalues(const Matrix& block, bool discrete);
+// By real part, then imaginary part.
+void sort_roots(std::vector<Complex>& roots);
 
 }  // namespace dmbd::blocks

@@ -1,5 +1,6 @@
 #pragma once
 // Time responses of state-space models.
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -40,8 +41,20 @@ struct StepInfo {
 StepInfo step_info(const StateSpace& sys, const TimeResponse& step_response, int out = 0, int in = 0,
                    double settling_fraction = 0.02, double rise_low = 0.1, double rise_high = 0.9);
 
-// A reasonable t_end for a step response: 6 slowest time constants, or 10 periods
-// of the slowest oscillation, clamped to [1e-6, 1e6] s.
+// The figures of step_info from samples y at times t of a step response whose final
+// value is `final`, with crossing times and the peak refined on y_at (the exact
+// response at any time) when it is given, else taken at the samples.
+StepInfo step_figures(const std::vector<double>& t, const std::vector<double>& y, double final,
+                      const std::function<double(double)>& y_at, double settling_fraction = 0.02,
+                      double rise_low = 0.1, double rise_high = 0.9);
+
+// A reasonable t_end for a step response: 7 slowest time constants, or 10 periods
+// of the slowest oscillation; for a stable system at least the mean delay of the
+// impulse response of prod 1/(1 - s/p) plus 6 of its standard deviations (sum of
+// -1/p, sum of 1/p^2: a chain of n lags of tau rises at n tau +- sqrt(n) tau);
+// clamped to [1e-6, 1e6] s.
 double default_step_horizon(const StateSpace& sys);
+// The same from the poles (in z when ts > 0).
+double step_horizon(const std::vector<Complex>& poles, double ts);
 
 }  // namespace dmbd::blocks

@@ -32,8 +32,10 @@ class TransferFunction {
   bool is_proper() const { return num_.degree() <= den_.degree(); }
   bool is_strictly_proper() const { return num_.degree() < den_.degree(); }
 
-  std::vector<Complex> poles() const { return den_.roots(); }
-  std::vector<Complex> zeros() const { return num_.roots(); }
+  // Roots of den (of num); those at s = 0 (z = 1), as Polynomial::without_root decides
+  // them, come out exactly 0 (1).
+  std::vector<Complex> poles() const { return roots_of(den_); }
+  std::vector<Complex> zeros() const { return roots_of(num_); }
   // Value at s = 0 (continuous) or z = 1 (discrete); nullopt when infinite (a pole
   // there that no zero cancels). 0/0 from a common root is resolved by cancelling it.
   std::optional<double> dc_gain() const;
@@ -53,6 +55,7 @@ class TransferFunction {
   TransferFunction pow(int n) const;
 
  private:
+  std::vector<Complex> roots_of(const Polynomial& p) const;
   Polynomial num_, den_;
   double ts_ = 0.0;
 };

@@ -3,6 +3,7 @@
 // diagram, and the loop transfer at a break point.
 #include <string>
 
+#include "dmbd/blocks/sparse_state_space.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 
 namespace dmbd::diagrams {
@@ -22,6 +23,13 @@ blocks::StateSpace linearize(const Diagram& d, const std::string& from, const st
 // injected input instead of the signal; L = -(signal before the break)/(injection),
 // the negative-feedback convention of the usual margins.
 blocks::StateSpace loop_transfer(const Diagram& d, const std::string& at);
+
+// The same two models unbalanced, with sparse matrices, in time and memory linear in
+// the size of the diagram (apart from the fill-in of chains of direct feedthrough: a
+// chain of n lead-lags couples every state to all the earlier ones): for diagrams of
+// thousands of blocks, analysed by blocks::Siso.
+blocks::SparseStateSpace linearize_sparse(const Diagram& d, const std::string& from, const std::string& to);
+blocks::SparseStateSpace loop_transfer_sparse(const Diagram& d, const std::string& at);
 
 // Every name `linearize` accepts, for messages and `dmbd draw`.
 std::vector<std::string> signal_names(const Diagram& d);

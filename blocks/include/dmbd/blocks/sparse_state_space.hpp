@@ -1,0 +1,94 @@
+#pragma once
+// State-space models with sparse A, B, C: interconnections of thousands of blocks,
+// where a dense n x n matrix (and anything cubic in n) is out of reach.
+#include <Eigen/SparseCore>
+#include <optional>
+#include <vector>
+
+#include "dmbd/blocks/state_space.hpp"
+#include "dmbd/blocks/time_response.hpp"
+
+namespace dmbd::blocks {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+class SparseStateSpace {
+ public:
+  SparseStateSpace() = default;
+  // Throws InputError on inconsistent sizes, non-finite entries or a bad sample time.
+  SparseStateSpace(SparseMatrix a, SparseMatrix b, SparseMatrix c, Matrix d, double ts = 0.0);
+  explicit SparseStateSpace(const StateSpace& dense);
+  StateSpace dense() const;
+
+  const SparseMatrix& a() const { return a_; }
+  const SparseMatrix& b() const { return b_; }
+  const SparseMatrix& c() const { return c_; }
+  const Matrix& d() const { return d_; }
+  double ts() const { return ts_; }
+  bool is_discrete() const { return ts_ > 0.0; }
+  int num_states() const { return static_cast<int>(a_.rows()); }
+  int num_inputs() const { return static_cast<int>(b_.cols()); }
+  int num_outputs() const { return static_cast<int>(c_.rows()); }
+
+  // The strongly connected groups of the states, each after the groups it depends on
+  // (as state_groups()); O(nonzeros).
+  std::vector<std::vector<int>> groups() const;
+  // Eigenvalues of A, group by group as StateSpace::poles() (one small dense problem
+  // per group), sorted.
+  std::vector<Complex> poles() const;
+  // The same system with only the states `keep`, in that order (A, B, C restricted:
+  // exact when the others do not reach `keep` and the outputs, or are not reached
+  // from the inputs and `keep`).
+  SparseStateSpace restricted(const std::vector<int>& keep) const;
+  // Diagonal power-of-two similarity equalising row and column norms of A
+  // (Parlett-Reinsch, as StateSpace::balanced()); O(nonzeros) per sweep.
+  SparseStateSpace balanced() const;
+
+ private:
+  SparseMatrix a_, b_, c_;
+  Matrix d_;
+  double ts_ = 0.0;
+};
+
+// v -> e^{tM} v for a sparse square M, never forming a dense matrix: the shift
+// mu = trace(M)/n is taken out exactly, and the rest is a Taylor series on
+// s = ceil(||M - mu I||_1 t / 4) steps of t/s (each step's matrix of 1-norm <= 4), its
+// terms summed until they fall below rounding. Cost: about 30 s products with M.
+class ExponentialAction {
+ public:
+  explicit ExponentialAction(SparseMatrix m);
+  Vector apply(const Vector& v, double t) const;
+
+ private:
+  SparseMatrix m_;
+  double mu_ = 0.0, norm1_ = 0.0;
+};
+
+// Unit step on input `in` from rest, n samples from 0 to t_end (a discrete system: at
+// its own k ts up to t_end), exact at the samples and, for a continuous system, at any
+// time between them: the state [x; u] of the augmented [A B; 0 0] is propagated by
+// ExponentialAction (a dense matrix exponential when there are at most 60 states,
+// whose cost does not grow with stiffness).
+class SparseStep {
+ public:
+  SparseStep(const SparseStateSpace& sys, double t_end, int n, int in = 0);
+  const TimeResponse& response() const { return response_; }
+  // Output `out` at t in [0, t_end]: exact (continuous), or the sample at or before t.
+  double at(double t, int out = 0) const;
+
+ private:
+  Vector advance(const Vector& z, double t) const;  // augmented state after t
+  SparseStateSpace sys_;
+  int in_ = 0, stride_ = 1;
+  double dt_ = 0.0;
+  std::optional<ExponentialAction> action_;
+  SparseMatrix augmented_;
+  Matrix step_;  // dense e^{M dt} (small systems)
+  std::vector<Vector> checkpoints_;  // augmented state every stride_ samples
+  TimeResponse response_;
+};
+
+// Rows `rows` and columns `cols` of a sparse matrix, dense.
+Matrix dense_block(const SparseMatrix& m, const std::vector<int>& rows, const std::vector<int>& cols);
+
+}  // namespace dmbd::blocks
