@@ -156,22 +156,26 @@ std::vector<double> logspace(double lo, double hi, int n) {
   return w;
 }
 
-std::vector<double> default_frequency_grid(const TransferFunction& g, int n) {
+std::vector<double> frequency_grid_around(const std::vector<Complex>& roots, double ts, int n) {
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-  auto consider = [&](const Complex& r) {
-    double mag = g.is_discrete() ? std::abs(std::log(r)) / g.ts() : std::abs(r);
+  for (const Complex& r : roots) {
+    const double mag = ts > 0.0 ? std::abs(std::log(r)) / ts : std::abs(r);
     if (mag > 0.0 && std::isfinite(mag)) lo = std::min(lo, mag), hi = std::max(hi, mag);
-  };
-  for (const Complex& r : g.poles()) consider(r);
-  for (const Complex& r : g.zeros()) consider(r);
-  if (!(hi > 0.0)) lo = hi = g.is_discrete() ? 0.1 / g.ts() : 1.0;
+  }
+  if (!(hi > 0.0)) lo = hi = ts > 0.0 ? 0.1 / ts : 1.0;
   lo /= 100.0;
   hi *= 100.0;
-  if (g.is_discrete()) {
-    hi = M_PI / g.ts();
+  if (ts > 0.0) {
+    hi = M_PI / ts;
     lo = std::min(lo, hi / 1000.0);
   }
   return logspace(lo, hi, n);
+}
+
+std::vector<double> default_frequency_grid(const TransferFunction& g, int n) {
+  std::vector<Complex> roots = g.poles();
+  for (const Complex& z : g.zeros()) roots.push_back(z);
+  return frequency_grid_around(roots, g.is_discrete() ? g.ts() : 0.0, n);
 }
 
 std::vector<Complex> frequency_response(const TransferFunction& g, const std::vector<double>& w) {

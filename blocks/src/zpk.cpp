@@ -1,5 +1,7 @@
 #include "dmbd/blocks/zpk.hpp"
 
+#include "dmbd/blocks/frequency.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -180,20 +182,9 @@ std::optional<TransferFunction> Zpk::to_tf() const {
 }
 
 std::vector<double> default_frequency_grid(const Zpk& g, int n) {
-  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
-  for (const auto* list : {&g.zeros(), &g.poles()})
-    for (const Complex& r : *list) {
-      const double mag = g.is_discrete() ? std::abs(std::log(r)) / g.ts() : std::abs(r);
-      if (mag > 0.0 && std::isfinite(mag)) lo = std::min(lo, mag), hi = std::max(hi, mag);
-    }
-  if (!(hi > 0.0)) lo = hi = g.is_discrete() ? 0.1 / g.ts() : 1.0;
-  lo /= 100.0;
-  hi *= 100.0;
-  if (g.is_discrete()) {
-    hi = M_PI / g.ts();
-    lo = std::min(lo, hi / 1000.0);
-  }
-  return logspace(lo, hi, n);
+  std::vector<Complex> roots = g.zeros();
+  roots.insert(roots.end(), g.poles().begin(), g.poles().end());
+  return frequency_grid_around(roots, g.is_discrete() ? g.ts() : 0.0, n);
 }
 
 Bode bode(const Zpk& g, const std::vector<double>& w) {

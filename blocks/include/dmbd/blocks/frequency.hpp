@@ -24,6 +24,9 @@ std::vector<double> logspace(double lo, double hi, int n);
 // A grid covering two decades beyond the slowest and fastest pole/zero (up to Nyquist
 // for a discrete system).
 std::vector<double> default_frequency_grid(const TransferFunction& sys, int n = 400);
+// The same grid from roots (s-plane, or z-plane when ts > 0): two decades beyond the
+// smallest and largest root magnitude (z: |log z| / ts), up to Nyquist when discrete.
+std::vector<double> frequency_grid_around(const std::vector<Complex>& roots, double ts, int n);
 
 // Direct evaluation num(jw)/den(jw) (or at z = e^{jw ts}).
 std::vector<Complex> frequency_response(const TransferFunction& sys, const std::vector<double>& w_rad_s);
