@@ -1,11 +1,8 @@
 #include "analyze.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <sstream>
 
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/frequency.hpp"
@@ -29,13 +26,6 @@ json hz(const std::optional<double>& w_rad_s) {
   return w_rad_s ? number(*w_rad_s / kTwoPi) : json(nullptr);
 }
 
-std::string fmt_num(double v) { return fmt::format("{:.6g}", v); }
-
-std::string fmt_opt(const json& j, const char* unit, double scale = 1.0) {
-  if (j.is_null()) return "none";
-  return fmt_num(j.get<double>() * scale) + unit;
-}
-
 void check_output_path(const std::string& path, const char* option) {
   if (path.empty()) return;
   const std::filesystem::path p(path);
@@ -47,30 +37,6 @@ void check_output_path(const std::string& path, const char* option) {
 
 }  // namespace
 
-std::string polynomial_text(const std::vector<double>& d, char var) {
-  if (d.empty()) return "0";
-  std::string out;
-  const int n = static_cast<int>(d.size()) - 1;
-  for (int i = 0; i <= n; ++i) {
-    const double c = d[static_cast<size_t>(i)];
-    const int p = n - i;
-    if (c == 0.0) continue;
-    const double a = std::abs(c);
-    std::string term;
-    if (p == 0 || a != 1.0) term = fmt_num(a);
-    if (p > 0) {
-      if (!term.empty()) term += " ";
-      term += var;
-      if (p > 1) term += "^" + std::to_string(p);
-    }
-    if (out.empty()) {
-      out = (c < 0 ? "-" : "") + term;
-    } else {
-      out += (c < 0 ? " - " : " + ") + term;
-    }
-  }
-  return out.empty() ? "0" : out;
-}
 
 json roots_json(const std::vector<b::Complex>& roots) {
   json a = json::array();
@@ -239,95 +205,6 @@ void write_plots(const b::Siso& g, const json& r, const AnalyzeRequest& req) {
     for (size_t k = 0; k < y.size(); ++k) y[k] = st.response.y(static_cast<Eigen::Index>(k), 0);
     viz::step_figure(st.response.t, y, "Step response: " + title, st.info.final_value).save_png(req.step_png);
   }
-}
-
-namespace {
-
-// Roots, each conjugate pair once, runs of equal roots as one line with their count.
-void list_roots(std::ostringstream& o, const char* name, const json& list, char var) {
-  o << name << ":";
-  if (list.empty()) o << " none";
-  o << "\n";
-  for (size_t k = 0; k < list.size();) {
-    const double re = list[k][0].get<double>(), im = list[k][1].get<double>();
-    size_t n = 1;
-    while (k + n < list.size() && list[k + n][0].get<double>() == re && list[k + n][1].get<double>() == im) ++n;
-    k += n;
-    if (im < 0) continue;  // print each conjugate pair once
-    o << "  " << fmt_num(re);
-    if (im > 0) o << " ± " << fmt_num(im) << "j";
-    if (var == 's') {
-      const double wn = std::hypot(re, im);
-      if (wn > 0) o << fmt::format("   (|p| = {} rad/s = {} Hz, zeta = {:.4g})", fmt_num(wn), fmt_num(wn / kTwoPi), -re / wn);
-    } else {
-      o << fmt::format("   (|z| = {:.6g})", std::hypot(re, im));
-    }
-    if (n > 1) o << "   x " << n;
-    o << "\n";
-  }
-}
-
-const char* stability_text(const std::string& s) {
-  return s == "stable" ? "stable" : s == "marginal" ? "marginally stable" : "not stable";
-}
-
-}  // namespace
-
-std::string summary(const json& r) {
-  std::ostringstream o;
-  const char var = r["continuous"].get<bool>() ? 's' : 'z';
-  if (r["num"].is_null()) {
-    o << "G(" << var << "): order " << r["order"].get<int>()
-      << " (its coefficients exceed double precision: see the poles and zeros)";
-  } else {
-    o << "G(" << var << ") = (" << polynomial_text(r["num"].get<std::vector<double>>(), var) << ") / ("
-      << polynomial_text(r["den"].get<std::vector<double>>(), var) << ")";
-  }
-  if (!r["continuous"].get<bool>()) o << "   [ts = " << fmt_num(r["ts"].get<double>()) << " s]";
-  o << "\n";
-  o << "order " << r["order"].get<int>() << ", " << (r["proper"].get<bool>() ? "proper" : "improper") << ", "
-    << stability_text(r["stability"].get<std::string>()) << "\n";
-  list_roots(o, "poles", r["poles"], var);
-  list_roots(o, "zeros", r["zeros"], var);
-  if (!r["hidden_poles"].empty())
-    o << r["hidden_poles"].size() << " more mode(s) the transfer does not see (hidden_poles in --json)\n";
-  if (r["dc_gain"].is_null()) {
-    o << "DC gain: infinite\n";
-  } else {
-    const double k = r["dc_gain"].get<double>();
-    o << "DC gain: " << fmt_num(k);
-    if (k != 0) o << fmt::format(" ({:.4g} dB)", 20 * std::log10(std::abs(k)));
-    o << "\n";
-  }
-  o << "bandwidth (-3 dB): " << fmt_opt(r["bandwidth_hz"], " Hz") << "\n";
-  o << "gain margin: " << fmt_opt(r["gain_margin_db"], " dB");
-  if (!r["phase_crossover_hz"].is_null()) o << " at " << fmt_num(r["phase_crossover_hz"].get<double>()) << " Hz";
-  o << "; phase margin: " << fmt_opt(r["phase_margin_deg"], " deg");
-  if (!r["gain_crossover_hz"].is_null()) o << " at " << fmt_num(r["gain_crossover_hz"].get<double>()) << " Hz";
-  o << "  (as a loop transfer function)\n";
-  if (r.contains("step")) {
-    const json& s = r["step"];
-    o << "step: rise (10-90 %) " << fmt_opt(s["rise_time_s"], " ms", 1e3) << ", settling (2 %) "
-      << fmt_opt(s["settling_time_s"], " ms", 1e3) << ", overshoot " << fmt_opt(s["overshoot_pct"], " %")
-      << ", final value " << fmt_opt(s["final_value"], "") << "\n";
-  }
-  if (r.contains("bode")) {
-    const json& bd = r["bode"];
-    o << "frequency response:\n";
-    for (size_t k = 0; k < bd["freq_hz"].size(); ++k) {
-      o << "  " << fmt::format("{:>12}", fmt_num(bd["freq_hz"][k].get<double>())) << " Hz  "
-        << fmt::format("{:>10}", fmt_opt(bd["mag_db"][k], "")) << " dB  "
-        << fmt::format("{:>10}", fmt_opt(bd["phase_deg"][k], "")) << " deg\n";
-    }
-  }
-  if (r.contains("discrete")) {
-    const json& d = r["discrete"];
-    o << "discrete (" << d["method"].get<std::string>() << ", ts = " << fmt_num(d["ts"].get<double>()) << " s): ("
-      << polynomial_text(d["num"].get<std::vector<double>>(), 'z') << ") / ("
-      << polynomial_text(d["den"].get<std::vector<double>>(), 'z') << "), "
-      << (d["stable"].get<bool>() ? "stable" : "not stable") << "\n";
-  }
-  return o.str();
 }
 
 }  // namespace dmbd::apps
