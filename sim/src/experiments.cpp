@@ -276,6 +276,7 @@ double rms_error(const std::vector<double>& t, const std::vector<double>& r, con
 }
 
 ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>& runs);  // sysid_experiment.cpp
+ExperimentResult osc_table(const Scenario& s, const std::vector<VariantResult>& runs);    // osc_experiment.cpp
 
 ExperimentResult evaluate_experiment(const Scenario& s, const std::vector<VariantResult>& runs) {
   ExperimentResult res;
@@ -285,6 +286,7 @@ ExperimentResult evaluate_experiment(const Scenario& s, const std::vector<Varian
   else if (type == "thermal") res = thermal(s, runs);
   else if (type == "sysid_rfsea") res = sysid_rfsea(s, runs);
   else if (type == "standing") res = standing(s, runs);
+  else if (type == "osc_table") res = osc_table(s, runs);
   // The scenario's own plots: "signal" (every variant) or "variant:signal".
   for (const auto& p : s.plots) {
     plot::Figure fig(1200, 600);

@@ -36,6 +36,8 @@ nlohmann::json run_json(const VariantResult& r) {
   j["controller_clamp_events"] = r.clamp_events;
   j["truth"] = nlohmann::json::object();
   for (const auto& [k, v] : r.truth) j["truth"][k] = v;
+  if (!r.timing_us.empty())
+    for (const auto& [k, v] : r.timing_us) j["timing_us"][k] = v;
   for (const auto& f : r.fixed_point)
     j["fixed_point"].push_back({{"controller", f.controller}, {"output", f.output}, {"unit", f.unit}, {"word_bits", f.word_bits},
                                 {"error_bound", f.bound}, {"range", f.range}});
@@ -234,6 +236,8 @@ ScenarioRun read_run(const std::string& dir) {
     r.clamp_events = j.value("controller_clamp_events", std::vector<unsigned long long>{});
     if (j.contains("truth"))
       for (auto it = j["truth"].begin(); it != j["truth"].end(); ++it) r.truth[it.key()] = number_of(it.value());
+    if (j.contains("timing_us"))
+      for (auto it = j["timing_us"].begin(); it != j["timing_us"].end(); ++it) r.timing_us[it.key()] = number_of(it.value());
     if (j.contains("fixed_point"))
       for (const auto& f : j["fixed_point"])
         r.fixed_point.push_back({f.value("controller", ""), f.value("output", ""), f.value("unit", ""), f.value("word_bits", 0),

@@ -176,6 +176,14 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
     res.fixed_point.insert(res.fixed_point.end(), vc.fixed_point.begin(), vc.fixed_point.end());
   }
 
+  std::shared_ptr<OscController> osc;
+  if (v.osc) {
+    osc = osc_controller(s, v, vp, plant, spec.duration_s);
+    spec.controllers.push_back(osc_spec(*v.osc, osc));
+    for (int k = 0; k < plant.num_actuators(); ++k)  // the osc_table experiment's saturation figure
+      res.truth[plant.actuator(k).joint + ".current_limit_A"] = plant.actuator(k).current_limit_A;
+  }
+
   Simulation sim(plant, spec);
   const auto t0 = std::chrono::steady_clock::now();
   const long long steps0 = plant.integrator_steps();
@@ -186,6 +194,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   res.controller_steps = sim.controller_steps();
   res.clamp_events = sim.controller_clamp_events();
   fixed_point_warnings(res);
+  if (osc) osc_timing(*osc, res);
   return res;
 }
 

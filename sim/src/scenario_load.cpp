@@ -320,6 +320,51 @@ struct Reader {
     optional(n, "sensors", [&](const YAML::Node& s) { sensors(s, v); });
     optional(n, "integration", [&](const YAML::Node& i) { integration(i, v.integration); });
     optional(n, "thermal", [&](const YAML::Node& t) { thermal(t, v); });
+    optional(n, "osc", [&](const YAML::Node& o) { osc(o, v); });
+  }
+
+  // Three gains: one number for every axis, or a list of three.
+  Eigen::Vector3d gains3(const YAML::Node& n, const std::string& what) const {
+    if (n.IsScalar()) return Eigen::Vector3d::Constant(rd.number_in(n, what, 0.0, 1e9, ""));
+    const Eigen::Vector3d g = vec3(n, what);
+    if ((g.array() < 0).any()) fail(n, what + ": expected gains of 0 or more");
+    return g;
+  }
+
+  // The operational space controller (osc_controller.hpp), merged key by key into the
+  // base's (a variant may give only its trajectory).
+  void osc(const YAML::Node& n, VariantSetup& v) const {
+    keys(n, "osc", {"link", "point", "trajectory", "kp", "kd", "posture", "rate_hz", "delay_s", "sensors"});
+    OscSetup o = v.osc.value_or(OscSetup{});
+    o.where = at(n);
+    optional(n, "link", [&](const YAML::Node& x) { o.link = text(x, "osc.link"); });
+    optional(n, "point", [&](const YAML::Node& x) { o.point_L = vec3(x, "osc.point"); });
+    optional(n, "trajectory", [&](const YAML::Node& t) {
+      keys(t, "osc.trajectory", {"amplitude_m", "frequency_hz", "ramp_s"});
+      optional(t, "amplitude_m", [&](const YAML::Node& x) { o.trajectory.amplitude_m = vec3(x, "osc.trajectory.amplitude_m"); });
+      optional(t, "frequency_hz", [&](const YAML::Node& x) { o.trajectory.frequency_hz = rd.number_in(x, "osc.trajectory.frequency_hz", 0.0, 1e3, "Hz"); });
+      optional(t, "ramp_s", [&](const YAML::Node& x) { o.trajectory.ramp_s = rd.number_in(x, "osc.trajectory.ramp_s", 0.0, 1e6, "s"); });
+    });
+    optional(n, "kp", [&](const YAML::Node& x) { o.kp = gains3(x, "osc.kp"); });
+    optional(n, "kd", [&](const YAML::Node& x) { o.kd = gains3(x, "osc.kd"); });
+    optional(n, "posture", [&](const YAML::Node& p) {
+      keys(p, "osc.posture", {"kp", "kd"});
+      optional(p, "kp", [&](const YAML::Node& x) { o.posture_kp = rd.number_in(x, "osc.posture.kp", 0.0, 1e9, "1/s^2"); });
+      optional(p, "kd", [&](const YAML::Node& x) { o.posture_kd = rd.number_in(x, "osc.posture.kd", 0.0, 1e9, "1/s"); });
+    });
+    optional(n, "rate_hz", [&](const YAML::Node& r) { o.rate_hz = rate(r, "osc.rate_hz"); });
+    optional(n, "delay_s", [&](const YAML::Node& d) {
+      const double delay = rd.number_in(d, "osc.delay_s", 0.0, 1e9, "s");
+      if (delay > 1.0 / o.rate_hz)
+        fail(d, fmt::format("osc.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, o.rate_hz, 1.0 / o.rate_hz));
+      o.delay_s = delay;
+    });
+    optional(n, "sensors", [&](const YAML::Node& x) {
+      keys(x, "osc.sensors", {"q", "qd"});
+      optional(x, "q", [&](const YAML::Node& y) { o.q_signal = text(y, "osc.sensors.q"); });
+      optional(x, "qd", [&](const YAML::Node& y) { o.qd_signal = text(y, "osc.sensors.qd"); });
+    });
+    v.osc = o;
   }
 
   void forces(const YAML::Node& n, VariantSetup& v) const {
@@ -356,7 +401,7 @@ struct Reader {
 };
 
 const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "controllers", "references", "forces", "duration_s",
-                                                         "log_rate_hz", "sensors", "thermal", "integration"};
+                                                         "log_rate_hz", "sensors", "thermal", "integration", "osc"};
 
 void read_variants(const Reader& rd, const YAML::Node& list, const VariantSetup& base, Scenario& s) {
   if (!list.IsSequence()) rd.fail(list, "variants: expected a list");
@@ -441,6 +486,7 @@ const std::map<std::string, bool>& experiment_keys(const std::string& type) {
       {"force_tracking", {{"reference", true}, {"output", true}, {"start_s", false}, {"plot_window_s", false}}},
       {"thermal", {}},
       {"standing", {}},
+      {"osc_table", {{"leg", true}, {"window_start_s", false}}},
       {"sysid_rfsea",
        {{"lead_in_s", false}, {"locked_f0_hz", false}, {"locked_f1_hz", false}, {"free_f0_hz", false}, {"free_f1_hz", false}, {"frequencies", false}}},
   };
@@ -450,9 +496,9 @@ const std::map<std::string, bool>& experiment_keys(const std::string& type) {
 void read_experiment(const Reader& rd, const YAML::Node& e, ExperimentSetup& x) {
   if (!e.IsMap() || !e["type"]) rd.fail(e, "experiment: expected a map with 'type'");
   x.type = rd.text(e["type"], "experiment.type");
-  static const std::set<std::string> kTypes = {"sysid_rfsea", "force_tracking", "step_response", "thermal", "standing"};
+  static const std::set<std::string> kTypes = {"sysid_rfsea", "force_tracking", "step_response", "thermal", "standing", "osc_table"};
   if (!kTypes.count(x.type))
-    rd.fail(e["type"], "experiment.type: expected sysid_rfsea, force_tracking, step_response, thermal or standing, got '" + x.type + "'");
+    rd.fail(e["type"], "experiment.type: expected sysid_rfsea, force_tracking, step_response, thermal, standing or osc_table, got '" + x.type + "'");
   const auto& allowed = experiment_keys(x.type);
   for (const auto& kv : e) {
     rd.rd.guard([&] {
@@ -478,7 +524,7 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   if (!root.IsMap()) rd.rd.fail(Location{path, 1, 1}, "a scenario is a map (name, robot, controllers, ...)");
   // Unknown keys are reported and the rest is read all the same.
   rd.rd.keys(root, {"name", "description", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz", "sensors",
-                    "thermal", "integration", "frames", "plots", "variants", "matrix", "experiment"},
+                    "thermal", "integration", "osc", "frames", "plots", "variants", "matrix", "experiment"},
              "scenario");
   Scenario s;
   s.file = path;

@@ -95,6 +95,41 @@ VariantController variant_controller(const Scenario& s, const ControllerSetup& c
   return vc;
 }
 
+std::shared_ptr<OscController> osc_controller(const Scenario& s, const VariantSetup& v, const VariantPlant& vp,
+                                              const model::Plant& plant, double duration_s) {
+  const OscSetup& o = *v.osc;
+  const std::string where = o.where.empty() ? s.file : o.where;
+  if (v.robot.base != model::BaseMode::Fixed)
+    throw InputError(where + ": osc: operational space control needs the robot's base fixed (robot.base: fixed)");
+  std::vector<model::ActuatorParams> actuators;
+  for (int k = 0; k < plant.num_actuators(); ++k) actuators.push_back(plant.actuator(k));
+  std::vector<std::pair<std::string, double>> q0;
+  for (const auto& j : vp.robot.joints) q0.emplace_back(j.name, initial_angle(v.robot, j.name));
+  const auto ticks = static_cast<long long>(std::ceil(duration_s * o.rate_hz)) + 1;
+  OscSetup located = o;
+  located.where = where;
+  return std::make_shared<OscController>(vp.robot, v.robot.X_WB, v.robot.gravity_m_s2, actuators, q0, located, ticks);
+}
+
+ControllerSpec osc_spec(const OscSetup& setup, std::shared_ptr<OscController> osc) {
+  ControllerSpec cs;
+  cs.name = "osc";
+  cs.delay_s = setup.delay_s;
+  cs.where = setup.where;
+  for (int k = 0; k < osc->num_inputs(); ++k) cs.inputs.push_back(osc->input_name(k));
+  for (int k = 0; k < osc->num_outputs(); ++k) cs.outputs.push_back(osc->output_name(k));
+  cs.controller = std::move(osc);
+  return cs;
+}
+
+void osc_timing(const OscController& osc, VariantResult& r) {
+  std::vector<double> t = osc.tick_times_us();
+  if (t.empty()) return;
+  std::nth_element(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(t.size() / 2), t.end());
+  r.timing_us["osc_tick_us_median"] = t[t.size() / 2];
+  r.timing_us["osc_tick_us_max"] = *std::max_element(t.begin(), t.end());
+}
+
 void fixed_point_warnings(VariantResult& r) {
   for (const auto& f : r.fixed_point)
     if (!(f.bound <= f.range))  // a bound beyond the range, or none (inf)

@@ -3,6 +3,7 @@
 // the controller's parameters, lowered at its rate, in its scalar type, its ports bound
 // to bus signals (errors named where the scenario wrote them), and in fixed point the
 // predicted error bound of each output over the run.
+#include <memory>
 #include <vector>
 
 #include "dmbd/sim/scenario.hpp"
@@ -15,6 +16,17 @@ struct VariantController {
 };
 
 VariantController variant_controller(const Scenario& s, const ControllerSetup& c, double duration_s);
+
+// The variant's operational space controller (VariantSetup::osc): the robot as
+// simulated with its base fixed where the scenario fixed it, the plant's actuators, the
+// variant's initial angles; storage for every tick's wall time over duration_s. Throws
+// InputError at the osc map for a floating base.
+std::shared_ptr<OscController> osc_controller(const Scenario& s, const VariantSetup& v, const VariantPlant& vp,
+                                              const model::Plant& plant, double duration_s);
+// Its ports bound to the bus signals they are named after.
+ControllerSpec osc_spec(const OscSetup& setup, std::shared_ptr<OscController> osc);
+// The median and largest wall time of its evaluations into r.timing_us.
+void osc_timing(const OscController& osc, VariantResult& r);
 
 // A warning on the run for every fixed-point output whose bound exceeds its range, and
 // for saturations of a fixed-point controller (its bound does not hold past them).

@@ -14,7 +14,8 @@ ALLOWED = {
     "codegen": {"base", "blocks", "diagrams"},
     "model": {"base"},
     "viz": {"base"},
-    "sim": {"base", "blocks", "diagrams", "codegen", "model"},
+    "wholebody": {"base"},
+    "sim": {"base", "blocks", "diagrams", "codegen", "model", "wholebody"},
     "report": {"base", "blocks", "diagrams", "codegen", "model", "sim", "viz"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]dmbd/([a-z_]+)/')

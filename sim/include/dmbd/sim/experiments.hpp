@@ -10,6 +10,9 @@
 //                   output (paper Fig. 5a), against the simulator's values
 //   standing        a floating robot standing (and pushed): fell, largest tilt, largest
 //                   torso drop, tilt at the end
+//   osc_table       operational space control of the table-mounted robot (paper Fig. 6):
+//                   the point's RMS and largest error, each joint's torque error, current
+//                   saturation and the controller's evaluation time, per variant
 #include <string>
 #include <utility>
 #include <vector>

@@ -15,6 +15,7 @@
 
 #include "dmbd/model/dynamics.hpp"
 #include "dmbd/model/plant.hpp"
+#include "dmbd/sim/osc_controller.hpp"
 #include "dmbd/sim/simulation.hpp"
 
 namespace dmbd::sim {
@@ -108,6 +109,7 @@ struct VariantSetup {
   double force_noise_N = 0;
   Cooling cooling = Cooling::On;
   IntegrationSetup integration;
+  std::optional<OscSetup> osc;                 // an operational space controller on the bus (fixed base)
 };
 
 struct ExperimentSetup {
@@ -151,6 +153,9 @@ struct VariantResult {
   std::map<std::string, double> truth;         // the simulator's true values the experiment may need
   std::vector<FixedPointFacts> fixed_point;    // per fixed-point controller output
   std::vector<std::string> warnings;           // one line each (a fixed-point bound beyond its range)
+  // Wall-time figures of controllers that time themselves (osc_tick_us_median,
+  // osc_tick_us_max: one evaluation of the operational space controller), µs.
+  std::map<std::string, double> timing_us;
 };
 
 struct RunOptions {

@@ -1,0 +1,84 @@
+#pragma once
+// Operational space control of a fixed-base robot as a controller on the bus (paper
+// Sec. IV-A): one point of the robot (a frame's origin, e.g. the left ankle) follows a
+// sinusoidal path about where it starts, every joint held near its starting angle by a
+// posture task in the null space; τ = A J̄ (ẍ_cmd − J̇ v) + b + g + Nᵀ τ₀
+// (wholebody::OperationalSpaceControl). Each joint's torque command goes to its
+// actuator the way the robot does it: F_d = τ_d N_l(q) (the linkage, model/actuator.hpp)
+// on "<joint>.force_d", for that joint's force controller (a loop program on the bus).
+//
+// Ports, per joint J of the model (in the model's joint order):
+//   inputs   J.<q_signal>, J.<qd_signal>   joint angle and rate (configurable sensors)
+//            J.force                       sensed actuator force (actuated joints)
+//   outputs  J.tau_d (N m)                 the OSC torque
+//            J.force_d (N)                 the actuator force command (actuated joints)
+//            J.tau_s (N m)                 the sensed force through the linkage, F / N_l(q)
+//            osc.x_d, osc.y_d, osc.z_d, osc.x, osc.y, osc.z (m)   target and measured point
+// Allocation-free step; the wall time of each evaluation is recorded (tick_times_us).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "dmbd/model/actuator.hpp"
+#include "dmbd/model/dynamics.hpp"
+#include "dmbd/model/robot_description.hpp"
+#include "dmbd/sim/controller.hpp"
+
+namespace dmbd::sim {
+
+// The point's target: p_d(t) = p_0 + s(t) (a ∘ sin(2π f t)), each axis its own
+// amplitude, with a smooth start s(t) = minimum-jerk ramp 0 → 1 over ramp_s (so that the
+// target's velocity and acceleration start at 0 and are continuous).
+struct OscTrajectory {
+  Eigen::Vector3d amplitude_m = Eigen::Vector3d::Zero();
+  double frequency_hz = 1.0;
+  double ramp_s = 1.0;
+  // Target position, velocity and acceleration at t (relative to p_0).
+  void evaluate(double t, Eigen::Vector3d& p, Eigen::Vector3d& v, Eigen::Vector3d& a) const;
+};
+
+struct OscSetup {
+  std::string link = "l_foot";                      // the point's link
+  Eigen::Vector3d point_L = Eigen::Vector3d::Zero(); // its place in the link
+  OscTrajectory trajectory;
+  Eigen::Vector3d kp = Eigen::Vector3d::Constant(400.0);   // task gains, 1/s²
+  Eigen::Vector3d kd = Eigen::Vector3d::Constant(40.0);    // 1/s
+  double posture_kp = 100.0, posture_kd = 20.0;            // posture gains, 1/s², 1/s
+  double rate_hz = 1000;
+  double delay_s = 0.0;
+  std::string q_signal = "q", qd_signal = "qd";            // J.q, J.qd unless given
+  std::string where;                                       // "file:line:col" of the osc map
+};
+
+class OscController : public Controller {
+ public:
+  // robot: the robot as simulated (welded joints applied); base fixed at X_WB; q0: the
+  // joint angles at t = 0 by joint name, 0 for a joint not listed (the posture target and
+  // the path's centre); actuators: those of the plant (their linkages). max_ticks: how
+  // many tick times to keep (storage allocated here). Throws InputError (at
+  // setup.where) for an unknown link.
+  OscController(const model::RobotDescription& robot, const Eigen::Isometry3d& X_WB, double gravity_m_s2,
+                const std::vector<model::ActuatorParams>& actuators,
+                const std::vector<std::pair<std::string, double>>& q0, const OscSetup& setup, long long max_ticks);
+  ~OscController() override;
+
+  double rate_hz() const override;
+  int num_inputs() const override;
+  int num_outputs() const override;
+  std::string input_name(int k) const override;
+  std::string output_name(int k) const override;
+  std::string output_unit(int k) const override;
+  void step(const double* u, double* y) override;
+
+  // The joints, in the model's order, and the evaluations' wall times (µs) so far.
+  const std::vector<std::string>& joints() const;
+  const std::vector<double>& tick_times_us() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dmbd::sim

@@ -1,0 +1,183 @@
+// OscController: operational space control on the bus (osc_controller.hpp).
+#include "dmbd/sim/osc_controller.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include "dmbd/base/error.hpp"
+#include "dmbd/sim/dynamics_model.hpp"
+#include "dmbd/wholebody/osc.hpp"
+#include "dmbd/wholebody/task.hpp"
+
+namespace dmbd::sim {
+
+void OscTrajectory::evaluate(double t, Eigen::Vector3d& p, Eigen::Vector3d& v, Eigen::Vector3d& a) const {
+  // Minimum-jerk ramp s(t) = 10u³ − 15u⁴ + 6u⁵, u = t / ramp_s, and its derivatives.
+  double s = 1.0, ds = 0.0, dds = 0.0;
+  if (ramp_s > 0 && t < ramp_s) {
+    const double u = std::max(t, 0.0) / ramp_s;
+    s = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+    ds = 30.0 * u * u * (1.0 - u) * (1.0 - u) / ramp_s;
+    dds = 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u) / (ramp_s * ramp_s);
+  }
+  const double w = 2.0 * M_PI * frequency_hz;
+  const double sn = std::sin(w * t), cs = std::cos(w * t);
+  // p = s a sin(wt); v = ṡ a sin + s a w cos; a = s̈ a sin + 2 ṡ a w cos − s a w² sin.
+  p = amplitude_m * (s * sn);
+  v = amplitude_m * (ds * sn + s * w * cs);
+  a = amplitude_m * (dds * sn + 2.0 * ds * w * cs - s * w * w * sn);
+}
+
+struct OscController::Impl {
+  OscSetup setup;
+  DynamicsModel model;
+  wholebody::ModelData data;
+  std::unique_ptr<wholebody::PointTask> task;
+  std::unique_ptr<wholebody::PostureTask> posture;
+  std::unique_ptr<wholebody::OperationalSpaceControl> osc;
+  std::vector<std::string> joints;
+  std::vector<std::optional<model::LinkageGeometry>> linkage;  // per joint: its actuator's, if any
+  std::vector<std::string> in_names, out_names, out_units;
+  Eigen::VectorXd q, v, tau;
+  Eigen::Vector3d p0;
+  long long tick = 0;
+  std::vector<double> tick_us;
+
+  Impl(const model::RobotDescription& robot, const model::DynamicsOptions& options, const OscSetup& s)
+      : setup(s), model(robot, options) {}
+  int nj() const { return static_cast<int>(joints.size()); }
+  void name_ports();
+  void write_outputs(const double* u, double* y, const Eigen::Vector3d& p_d) const;
+};
+
+namespace {
+
+model::DynamicsOptions fixed_base(const Eigen::Isometry3d& X_WB, double gravity) {
+  model::DynamicsOptions o;
+  o.base = model::BaseMode::Fixed;
+  o.X_WB = X_WB;
+  o.gravity_m_s2 = gravity;
+  return o;
+}
+
+}  // namespace
+
+void OscController::Impl::name_ports() {
+  for (const auto& j : joints) {
+    in_names.push_back(j + "." + setup.q_signal);
+    in_names.push_back(j + "." + setup.qd_signal);
+  }
+  for (int k = 0; k < nj(); ++k)
+    if (linkage[static_cast<size_t>(k)]) in_names.push_back(joints[static_cast<size_t>(k)] + ".force");
+  auto out = [&](const std::string& n, const char* unit) {
+    out_names.push_back(n);
+    out_units.emplace_back(unit);
+  };
+  for (const auto& j : joints) out(j + ".tau_d", "N m");
+  for (int k = 0; k < nj(); ++k)
+    if (linkage[static_cast<size_t>(k)]) {
+      out(joints[static_cast<size_t>(k)] + ".force_d", "N");
+      out(joints[static_cast<size_t>(k)] + ".tau_s", "N m");
+    }
+  for (const char* axis : {"x", "y", "z"}) out(std::string("osc.") + axis + "_d", "m");
+  for (const char* axis : {"x", "y", "z"}) out(std::string("osc.") + axis, "m");
+}
+
+OscController::OscController(const model::RobotDescription& robot, const Eigen::Isometry3d& X_WB, double gravity_m_s2,
+                             const std::vector<model::ActuatorParams>& actuators,
+                             const std::vector<std::pair<std::string, double>>& q0, const OscSetup& setup,
+                             long long max_ticks)
+    : impl_(std::make_unique<Impl>(robot, fixed_base(X_WB, gravity_m_s2), setup)) {
+  Impl& m = *impl_;
+  const wholebody::Layout& layout = m.model.layout();
+  try {
+    const int frame = m.model.add_frame({setup.link, setup.point_L});
+    m.task = std::make_unique<wholebody::PointTask>(frame, layout.nv);
+  } catch (InputError& e) {
+    e.prepend(setup.where + ": osc.link: ");
+    throw;
+  }
+  m.task->set_gains(setup.kp, setup.kd);
+  std::vector<int> all(layout.joints.size());
+  for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  m.posture = std::make_unique<wholebody::PostureTask>(layout, all);
+  m.posture->set_gains(setup.posture_kp, setup.posture_kd);
+  m.osc = std::make_unique<wholebody::OperationalSpaceControl>(layout, 3, static_cast<int>(all.size()));
+  for (const auto& j : layout.joints) {
+    m.joints.push_back(j.name);
+    std::optional<model::LinkageGeometry> l;
+    for (const auto& p : actuators)
+      if (p.joint == j.name) l = p.linkage;
+    m.linkage.push_back(l);
+  }
+  m.name_ports();
+  m.data = m.model.make_data();
+  m.q = Eigen::VectorXd::Zero(layout.nq);
+  for (const auto& [name, angle] : q0)
+    if (const int j = layout.joint_index(name); j >= 0) m.q[layout.joints[static_cast<size_t>(j)].q_index] = angle;
+  m.v = Eigen::VectorXd::Zero(layout.nv);
+  m.tau = Eigen::VectorXd::Zero(layout.nv);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(layout.nv);
+  m.posture->set_reference(m.q, zero, zero);
+  m.model.update(m.q, m.v, m.data);
+  m.p0 = m.data.frames[0].X_WF.translation();
+  m.tick_us.reserve(static_cast<size_t>(std::max(max_ticks, 1LL)));
+}
+
+OscController::~OscController() = default;
+
+double OscController::rate_hz() const { return impl_->setup.rate_hz; }
+int OscController::num_inputs() const { return static_cast<int>(impl_->in_names.size()); }
+int OscController::num_outputs() const { return static_cast<int>(impl_->out_names.size()); }
+std::string OscController::input_name(int k) const { return impl_->in_names[static_cast<size_t>(k)]; }
+std::string OscController::output_name(int k) const { return impl_->out_names[static_cast<size_t>(k)]; }
+std::string OscController::output_unit(int k) const { return impl_->out_units[static_cast<size_t>(k)]; }
+const std::vector<std::string>& OscController::joints() const { return impl_->joints; }
+const std::vector<double>& OscController::tick_times_us() const { return impl_->tick_us; }
+
+void OscController::step(const double* u, double* y) {
+  Impl& m = *impl_;
+  const auto start = std::chrono::steady_clock::now();
+  const wholebody::Layout& layout = m.model.layout();
+  for (int k = 0; k < m.nj(); ++k) {
+    const auto& j = layout.joints[static_cast<size_t>(k)];
+    m.q[j.q_index] = u[2 * k];
+    m.v[j.v_index] = u[2 * k + 1];
+  }
+  const double t = static_cast<double>(m.tick) / m.setup.rate_hz;
+  Eigen::Vector3d p, v, a;
+  m.setup.trajectory.evaluate(t, p, v, a);
+  p += m.p0;
+  m.task->set_reference(p, v, a);
+  m.model.update(m.q, m.v, m.data);
+  m.task->update(m.data);
+  m.posture->update(m.data);
+  m.osc->compute(m.data, *m.task, m.posture.get(), m.tau);
+  m.write_outputs(u, y, p);
+  ++m.tick;
+  if (m.tick_us.size() < m.tick_us.capacity())
+    m.tick_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
+}
+
+// τ_d per joint; then per actuated joint F_d = τ_d N_l(q) and the sensed torque
+// τ_s = F / N_l(q) (its force among the inputs after the joints' angles and rates);
+// then the point's target and position.
+void OscController::Impl::write_outputs(const double* u, double* y, const Eigen::Vector3d& p_d) const {
+  const wholebody::Layout& layout = model.layout();
+  int out = 0, force_in = 2 * nj();
+  for (int k = 0; k < nj(); ++k) y[out++] = tau[layout.joints[static_cast<size_t>(k)].v_index];
+  for (int k = 0; k < nj(); ++k) {
+    const std::optional<model::LinkageGeometry>& l = linkage[static_cast<size_t>(k)];
+    if (!l) continue;
+    const auto& j = layout.joints[static_cast<size_t>(k)];
+    const double n_l = l->N_l(q[j.q_index]);
+    y[out++] = tau[j.v_index] * n_l;
+    y[out++] = u[force_in++] / n_l;
+  }
+  const Eigen::Vector3d p = data.frames[0].X_WF.translation();
+  for (int i = 0; i < 3; ++i) y[out + i] = p_d[i];
+  for (int i = 0; i < 3; ++i) y[out + 3 + i] = p[i];
+}
+
+}  // namespace dmbd::sim

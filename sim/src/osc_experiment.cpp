@@ -1,0 +1,165 @@
+// The osc_table experiment (paper Fig. 6): operational space control of the
+// table-mounted robot, from each variant's log of the OSC controller's outputs
+// (osc_controller.hpp) and the actuators' currents.
+//   ankle_rms_error_m {x, y, z}, ankle_max_error_m   the point's error over the window
+//   torque_rms_error_Nm {joint}                      τ_d − τ_s (sensed) per joint of the leg
+//   torque_peak_Nm {joint}                           largest |τ_d| in the window
+//   current_saturation_fraction                      log samples with any of the leg's
+//                                                    applied currents at its limit
+//   osc_tick_us {median, max}                        one OSC evaluation's wall time
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "experiment_support.hpp"
+#include "dmbd/sim/experiments.hpp"
+
+namespace dmbd::sim {
+
+namespace {
+
+using detail::signal;
+
+struct Window {
+  const std::vector<double>& t;
+  double t0;
+  bool in(std::size_t k) const { return t[k] >= t0; }
+};
+
+double rms(const Window& w, const std::vector<double>& a, const std::vector<double>& b) {
+  double sq = 0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (w.in(k)) sq += (a[k] - b[k]) * (a[k] - b[k]), ++n;
+  return n ? std::sqrt(sq / static_cast<double>(n)) : std::nan("");
+}
+
+// The leg's joints: those with a sensed torque in the log whose names start with `leg`.
+std::vector<std::string> leg_joints(const VariantResult& r, const std::string& leg) {
+  std::vector<std::string> out;
+  for (int c = 0; c < static_cast<int>(r.log.columns()); ++c)
+    if (const std::string& name = r.log.name(c); name.rfind(leg, 0) == 0 && name.size() > 6 && name.compare(name.size() - 6, 6, ".tau_s") == 0)
+      out.push_back(name.substr(0, name.size() - 6));
+  return out;
+}
+
+double saturation_fraction(const VariantResult& r, const Window& w, const std::vector<std::string>& joints, const std::string& file) {
+  std::size_t n = 0, saturated = 0;
+  const std::size_t samples = w.t.size();
+  for (std::size_t k = 0; k < samples; ++k) {
+    if (!w.in(k)) continue;
+    ++n;
+    for (const auto& j : joints) {
+      const auto lim = r.truth.find(j + ".current_limit_A");
+      if (lim == r.truth.end()) continue;
+      if (std::abs(signal(r, j + ".current_applied", file)[k]) >= lim->second * (1.0 - 1e-9)) {
+        ++saturated;
+        break;
+      }
+    }
+  }
+  return n ? static_cast<double>(saturated) / static_cast<double>(n) : std::nan("");
+}
+
+void point_metrics(const VariantResult& r, const Window& w, const std::string& file, nlohmann::json& m) {
+  double worst = 0;
+  std::vector<double> err2(w.t.size(), 0.0);
+  for (const char* axis : {"x", "y", "z"}) {
+    const auto& d = signal(r, std::string("osc.") + axis + "_d", file);
+    const auto& y = signal(r, std::string("osc.") + axis, file);
+    m["ankle_rms_error_m"][axis] = rms(w, d, y);
+    for (std::size_t k = 0; k < err2.size(); ++k) err2[k] += (d[k] - y[k]) * (d[k] - y[k]);
+  }
+  for (std::size_t k = 0; k < err2.size(); ++k)
+    if (w.in(k)) worst = std::max(worst, std::sqrt(err2[k]));
+  m["ankle_max_error_m"] = worst;
+}
+
+plot::Figure point_figure(const std::vector<VariantResult>& runs, const std::string& file) {
+  plot::Figure fig(1200, 900);
+  fig.title = "Ankle position: desired (dashed) and measured (paper Fig. 6c)";
+  for (const char* axis : {"x", "y", "z"}) {
+    auto& a = fig.add_axes();
+    a.y_label = std::string(axis) + " (m)";
+    a.x_tick_labels = std::string(axis) == "z";
+    if (a.x_tick_labels) a.x_label = "Time (s)";
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const auto& r = runs[i];
+      a.series.push_back({r.name + " desired", r.log.time(), signal(r, std::string("osc.") + axis + "_d", file), plot::palette_color(i), 1.5, true});
+      a.series.push_back({r.name, r.log.time(), signal(r, std::string("osc.") + axis, file), plot::palette_color(i)});
+    }
+  }
+  return fig;
+}
+
+plot::Figure torque_figure(const VariantResult& r, const std::vector<std::string>& joints, const std::string& file) {
+  plot::Figure fig(1200, 200 * static_cast<int>(std::max<std::size_t>(joints.size(), 1)) + 100);
+  fig.title = r.name + ": joint torque, desired (dashed) and sensed (paper Fig. 6b)";
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    auto& a = fig.axes().emplace_back();
+    a.y_label = joints[i] + " (N m)";
+    a.x_tick_labels = i + 1 == joints.size();
+    if (a.x_tick_labels) a.x_label = "Time (s)";
+    a.series.push_back({"desired", r.log.time(), signal(r, joints[i] + ".tau_d", file), plot::palette_color(0), 1.5, true});
+    a.series.push_back({"sensed", r.log.time(), signal(r, joints[i] + ".tau_s", file), plot::palette_color(1)});
+  }
+  return fig;
+}
+
+plot::Figure current_figure(const VariantResult& r, const std::vector<std::string>& joints, const std::string& file) {
+  plot::Figure fig(1200, 200 * static_cast<int>(std::max<std::size_t>(joints.size(), 1)) + 100);
+  fig.title = r.name + ": motor current and its limit";
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    auto& a = fig.axes().emplace_back();
+    a.y_label = joints[i] + " (A)";
+    a.x_tick_labels = i + 1 == joints.size();
+    if (a.x_tick_labels) a.x_label = "Time (s)";
+    a.series.push_back({"applied", r.log.time(), signal(r, joints[i] + ".current_applied", file), plot::palette_color(2)});
+    if (const auto lim = r.truth.find(joints[i] + ".current_limit_A"); lim != r.truth.end()) {
+      a.h_lines = {lim->second, -lim->second};
+      a.h_line_labels = {"limit", "limit"};
+    }
+  }
+  return fig;
+}
+
+std::string file_safe(std::string name) {
+  std::replace_if(name.begin(), name.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-'; }, '_');
+  return name;
+}
+
+}  // namespace
+
+ExperimentResult osc_table(const Scenario& s, const std::vector<VariantResult>& runs) {
+  ExperimentResult res;
+  const std::string leg = detail::text_or(s.experiment, "leg", "l_");
+  const double t0 = detail::number_or(s.experiment, "window_start_s", 0.0);
+  for (const auto& r : runs) {
+    const Window w{r.log.time(), t0};
+    if (w.t.empty() || w.t.back() < t0)
+      res.warnings.push_back(fmt::format("variant '{}': the run ends before the experiment's window starts ({} s): no metrics", r.name, t0));
+    nlohmann::json& m = res.metrics["osc"][r.name];
+    point_metrics(r, w, s.file, m);
+    const auto joints = leg_joints(r, leg);
+    for (const auto& j : joints) {
+      const auto& d = signal(r, j + ".tau_d", s.file);
+      m["torque_rms_error_Nm"][j] = rms(w, d, signal(r, j + ".tau_s", s.file));
+      double peak = 0;
+      for (std::size_t k = 0; k < d.size(); ++k)
+        if (w.in(k)) peak = std::max(peak, std::abs(d[k]));
+      m["torque_peak_Nm"][j] = peak;
+    }
+    m["current_saturation_fraction"] = saturation_fraction(r, w, joints, s.file);
+    for (const char* stat : {"median", "max"})
+      if (const auto it = r.timing_us.find(std::string("osc_tick_us_") + stat); it != r.timing_us.end()) m["osc_tick_us"][stat] = it->second;
+    res.figures.emplace_back("osc_torque_" + file_safe(r.name) + ".png", torque_figure(r, joints, s.file));
+    res.figures.emplace_back("osc_current_" + file_safe(r.name) + ".png", current_figure(r, joints, s.file));
+  }
+  res.figures.emplace_back("osc_ankle.png", point_figure(runs, s.file));
+  res.notes.push_back(fmt::format("Errors over t >= {} s (after the path's smooth start); torque: desired τ_d against the actuator's "
+                                  "sensed force through the linkage, F / N_l(q).", t0));
+  return res;
+}
+
+}  // namespace dmbd::sim
