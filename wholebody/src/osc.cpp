@@ -6,8 +6,9 @@
 namespace dmbd::wholebody {
 
 OperationalSpaceControl::OperationalSpaceControl(const Layout& layout, int task_dim, int posture_dim)
-    : inv_(task_dim, layout.nv),
-      posture_inv_(posture_dim, layout.nv),
+    : A_factor_(layout.nv),
+      inv_(task_dim, layout.nv),
+      posture_inv_(posture_dim, layout.nv, 1e-9, false),  // the lowest task: no null space
       F_(Eigen::VectorXd::Zero(task_dim)),
       tau0_(Eigen::VectorXd::Zero(layout.nv)),
       F0_(Eigen::VectorXd::Zero(posture_dim)),
@@ -19,14 +20,15 @@ OperationalSpaceControl::OperationalSpaceControl(const Layout& layout, int task_
 
 void OperationalSpaceControl::compute(const ModelData& data, const Task& task, const Task* posture,
                                       Eigen::Ref<Eigen::VectorXd> tau) {
-  inv_.compute(data.A, task.jacobian());
+  A_factor_.compute(data.A);  // one factor of A for the task and the posture
+  inv_.compute(A_factor_, task.jacobian());
   // F = Λ (ẍ_cmd − J̇ v);  τ = Jᵀ F + b + g  (= A J̄ (ẍ_cmd − J̇ v) + b + g).
   a_ = task.command() - task.jacobian_dot_v();
   F_.noalias() = inv_.Lambda() * a_;
   tau.noalias() = task.jacobian().transpose() * F_;
   tau += data.bg;
   if (posture == nullptr || F0_.size() == 0) return;
-  posture_inv_.compute(data.A, posture->jacobian());
+  posture_inv_.compute(A_factor_, posture->jacobian());
   a0_ = posture->command() - posture->jacobian_dot_v();
   F0_.noalias() = posture_inv_.Lambda() * a0_;
   tau0_.noalias() = posture->jacobian().transpose() * F0_;

@@ -30,6 +30,7 @@ class OperationalSpaceControl {
   const Eigen::VectorXd& task_force() const { return F_; }   // Λ(ẍ_cmd − J̇ v), m
 
  private:
+  Eigen::LLT<Eigen::MatrixXd> A_factor_;
   DynamicallyConsistentInverse inv_, posture_inv_;
   Eigen::VectorXd F_, tau0_, F0_, a_, a0_;  // a: ẍ_cmd − J̇ v
 };

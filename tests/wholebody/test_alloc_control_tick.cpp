@@ -1,0 +1,118 @@
+// No heap allocation in a whole-body control tick after warm-up: the model's update(),
+// the tasks' update() and OperationalSpaceControl::compute (with a posture task), and
+// the DynamicallyConsistentInverse alone, at full rank and with a dropped row. The C
+// allocator is interposed in this executable to count allocations (malloc, calloc,
+// realloc: what operator new and Eigen use), as in tests/model/test_alloc_steps.cpp;
+// skipped under AddressSanitizer (tests/support/sanitizer.hpp).
+#include <gtest/gtest.h>
+
+#include "sanitizer.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+#include "dmbd/wholebody/osc.hpp"
+#include "dmbd/wholebody/projection.hpp"
+#include "dmbd/wholebody/task.hpp"
+#include "planar_point_task.hpp"
+#include "two_link_arm.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}
+
+#if !DMBD_ASAN
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+}
+
+extern "C" {
+void* malloc(std::size_t n) {
+  ++g_allocations;
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t m) {
+  ++g_allocations;
+  return __libc_calloc(n, m);
+}
+void* realloc(void* p, std::size_t n) {
+  ++g_allocations;
+  return __libc_realloc(p, n);
+}
+}
+#endif  // !DMBD_ASAN
+
+namespace dmbd::wholebody::testing {
+namespace {
+
+TEST(NoAllocation, TheCounterSeesAllocations) {
+  DMBD_SKIP_UNDER_ASAN();
+  const long before = g_allocations.load();
+  std::vector<double> x(100, 1.0);
+  EXPECT_GT(g_allocations.load() - before, 0);
+  EXPECT_EQ(x.size(), 100u);
+}
+
+TEST(NoAllocation, ControlTickOfOperationalSpaceControl) {
+  DMBD_SKIP_UNDER_ASAN();
+  PlanarArm arm = three_link_arm();
+  const int tip = arm.add_frame({"link3", Eigen::Vector3d(link_c().length, 0, 0)});
+  const int elbow = arm.add_frame({"link2", Eigen::Vector3d(0.1, 0.0, 0.0)});
+  ModelData d = arm.make_data();
+  PointTask point(tip, 3);  // its y row is dropped: the rank-deficient path
+  PlanarPointTask planar(tip, 3);
+  OrientationTask orientation(elbow, 3);
+  ComTask com(3);
+  PostureTask posture(arm.layout(), {0, 1, 2});
+  point.set_reference({0.9, 0.0, -0.4}, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  planar.set_reference({0.9, -0.4}, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero());
+  orientation.set_reference(rotation_y(0.5), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  posture.set_reference(Eigen::Vector3d(0.3, 0.9, 0.6), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  for (Task* t : std::vector<Task*>{&point, &planar, &orientation, &com, &posture}) t->set_gains(100, 20);
+  OperationalSpaceControl osc3(arm.layout(), 3, 3), osc2(arm.layout(), 2, 3);
+  Eigen::VectorXd q(3), v(3), tau(3);
+  auto tick = [&](double s) {
+    q << 0.3 + s, 0.8 - s, -0.5 + 2 * s;
+    v << 1.0 - s, 0.5, -2.0 * s;
+    arm.update(q, v, d);
+    point.update(d);
+    planar.update(d);
+    orientation.update(d);
+    com.update(d);
+    posture.update(d);
+    osc3.compute(d, point, &posture, tau);
+    double sum = tau.sum();
+    osc2.compute(d, planar, &posture, tau);
+    sum += tau.sum();
+    osc2.compute(d, planar, nullptr, tau);
+    return sum + tau.sum() + orientation.command().sum() + com.command().sum();
+  };
+  double sink = tick(0.0);  // warm-up
+  const long before = g_allocations.load();
+  for (int k = 1; k <= 100; ++k) sink += tick(0.001 * k);
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 100 control ticks";
+  EXPECT_TRUE(std::isfinite(sink));
+}
+
+TEST(NoAllocation, DynamicallyConsistentInverseCompute) {
+  DMBD_SKIP_UNDER_ASAN();
+  Eigen::MatrixXd A(4, 4), J(3, 4);
+  A << 4, 1, 0, 0, 1, 3, 1, 0, 0, 1, 2, 0.5, 0, 0, 0.5, 1;
+  J << 1, 0, 2, 0, 0, 1, 0, 1, 1, 1, 2, 1;  // row 3 = row 1 + row 2: rank 2
+  DynamicallyConsistentInverse dci(3, 4);
+  dci.compute(A, J);  // warm-up
+  const long before = g_allocations.load();
+  for (int k = 0; k < 100; ++k) {
+    A(0, 0) = 4.0 + 0.01 * k;
+    dci.compute(A, J);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 100 computes";
+  EXPECT_EQ(dci.rank(), 2);
+}
+
+}  // namespace
+}  // namespace dmbd::wholebody::testing
