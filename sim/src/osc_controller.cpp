@@ -8,6 +8,7 @@
 #include "dmbd/base/error.hpp"
 #include "dmbd/sim/dynamics_model.hpp"
 #include "dmbd/wholebody/osc.hpp"
+#include "dmbd/wholebody/projection.hpp"
 #include "dmbd/wholebody/task.hpp"
 
 namespace dmbd::sim {
@@ -38,8 +39,14 @@ struct OscController::Impl {
   std::unique_ptr<wholebody::OperationalSpaceControl> osc;
   std::vector<std::string> joints;
   std::vector<std::optional<model::LinkageGeometry>> linkage;  // per joint: its actuator's, if any
+  std::vector<double> load_damping;  // per joint: its actuator's output-side damping B_l (N s/m), or 0
   std::vector<std::string> in_names, out_names, out_units;
   Eigen::VectorXd q, v, tau;
+  // Load-damping feedforward: D = diag(B_l r(q)²) at the joints, the least-dissipation
+  // joint rates for the reference rate, q̇_ref = D⁻¹Jᵀ(J D⁻¹ Jᵀ)⁻¹ ẋ_d, and D q̇_ref.
+  Eigen::MatrixXd D;
+  std::unique_ptr<wholebody::DynamicallyConsistentInverse> damping_inv;
+  Eigen::VectorXd qd_ref;
   Eigen::Vector3d p0;
   long long tick = 0;
   std::vector<double> tick_us;
@@ -48,6 +55,7 @@ struct OscController::Impl {
       : setup(s), model(robot, options) {}
   int nj() const { return static_cast<int>(joints.size()); }
   void name_ports();
+  void add_load_damping(const Eigen::Vector3d& v_d);
   void write_outputs(const double* u, double* y, const Eigen::Vector3d& p_d) const;
 };
 
@@ -107,9 +115,11 @@ OscController::OscController(const model::RobotDescription& robot, const Eigen::
   for (const auto& j : layout.joints) {
     m.joints.push_back(j.name);
     std::optional<model::LinkageGeometry> l;
+    double b_l = 0.0;
     for (const auto& p : actuators)
-      if (p.joint == j.name) l = p.linkage;
+      if (p.joint == j.name) l = p.linkage, b_l = p.B_l_Ns_per_m;
     m.linkage.push_back(l);
+    m.load_damping.push_back(setup.compensate_load_damping ? b_l : 0.0);
   }
   m.name_ports();
   m.data = m.model.make_data();
@@ -118,6 +128,9 @@ OscController::OscController(const model::RobotDescription& robot, const Eigen::
     if (const int j = layout.joint_index(name); j >= 0) m.q[layout.joints[static_cast<size_t>(j)].q_index] = angle;
   m.v = Eigen::VectorXd::Zero(layout.nv);
   m.tau = Eigen::VectorXd::Zero(layout.nv);
+  m.qd_ref = Eigen::VectorXd::Zero(layout.nv);
+  m.D = Eigen::MatrixXd::Zero(layout.nv, layout.nv);
+  m.damping_inv = std::make_unique<wholebody::DynamicallyConsistentInverse>(3, layout.nv);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(layout.nv);
   m.posture->set_reference(m.q, zero, zero);
   m.model.update(m.q, m.v, m.data);
@@ -154,10 +167,41 @@ void OscController::step(const double* u, double* y) {
   m.task->update(m.data);
   m.posture->update(m.data);
   m.osc->compute(m.data, *m.task, m.posture.get(), m.tau);
+  if (m.setup.compensate_load_damping) m.add_load_damping(v);
   m.write_outputs(u, y, p);
   ++m.tick;
   if (m.tick_us.size() < m.tick_us.capacity())
     m.tick_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
+}
+
+// The actuators' output-side damping seen at the joints, D = diag(B_l r(q)²) (the
+// load's damping of Table I along the actuator, moment arm r = dx/dq): the rigid-body
+// model does not have it, the plant does (model/src/actuator_terms.cpp). It is fed
+// forward, D q̇_ref, at the joint rates that move the point at the reference's rate
+// with the least dissipation, q̇_ref = D⁻¹Jᵀ(J D⁻¹ Jᵀ)⁻¹ ẋ_d (a joint that does not move
+// the point gets none). Not fed back from the measured rates: cancelling the joints'
+// damping through a loop with delays made the hip yaw oscillate at about 5 Hz; and not
+// through J̄ ẋ_d, which sends the light foot's ankle fast. A joint without an actuator
+// is weighted by the largest damping (it is not made the cheap one to move).
+void OscController::Impl::add_load_damping(const Eigen::Vector3d& v_d) {
+  const wholebody::Layout& layout = model.layout();
+  double largest = 0.0;
+  for (int k = 0; k < nj(); ++k) {
+    const auto& j = layout.joints[static_cast<size_t>(k)];
+    const double b_l = load_damping[static_cast<size_t>(k)];
+    const double r = b_l > 0.0 ? linkage[static_cast<size_t>(k)]->moment_arm_m(q[j.q_index]) : 0.0;
+    D(j.v_index, j.v_index) = b_l * r * r;
+    largest = std::max(largest, b_l * r * r);
+  }
+  if (largest <= 0.0) return;
+  for (int i = 0; i < layout.nv; ++i)
+    if (D(i, i) <= 0.0) D(i, i) = largest;
+  damping_inv->compute(D, task->jacobian());
+  qd_ref.noalias() = damping_inv->Jbar() * v_d;
+  for (int k = 0; k < nj(); ++k) {
+    const int i = layout.joints[static_cast<size_t>(k)].v_index;
+    if (load_damping[static_cast<size_t>(k)] > 0.0) tau[i] += D(i, i) * qd_ref[i];
+  }
 }
 
 // τ_d per joint; then per actuated joint F_d = τ_d N_l(q) and the sensed torque

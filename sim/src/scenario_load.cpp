@@ -334,7 +334,7 @@ struct Reader {
   // The operational space controller (osc_controller.hpp), merged key by key into the
   // base's (a variant may give only its trajectory).
   void osc(const YAML::Node& n, VariantSetup& v) const {
-    keys(n, "osc", {"link", "point", "trajectory", "kp", "kd", "posture", "rate_hz", "delay_s", "sensors"});
+    keys(n, "osc", {"link", "point", "trajectory", "kp", "kd", "posture", "rate_hz", "delay_s", "sensors", "compensate_load_damping"});
     OscSetup o = v.osc.value_or(OscSetup{});
     o.where = at(n);
     optional(n, "link", [&](const YAML::Node& x) { o.link = text(x, "osc.link"); });
@@ -359,6 +359,8 @@ struct Reader {
         fail(d, fmt::format("osc.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, o.rate_hz, 1.0 / o.rate_hz));
       o.delay_s = delay;
     });
+    optional(n, "compensate_load_damping",
+             [&](const YAML::Node& x) { o.compensate_load_damping = boolean(x, "osc.compensate_load_damping"); });
     optional(n, "sensors", [&](const YAML::Node& x) {
       keys(x, "osc.sensors", {"q", "qd"});
       optional(x, "q", [&](const YAML::Node& y) { o.q_signal = text(y, "osc.sensors.q"); });

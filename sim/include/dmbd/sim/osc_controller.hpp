@@ -3,7 +3,8 @@
 // Sec. IV-A): one point of the robot (a frame's origin, e.g. the left ankle) follows a
 // sinusoidal path about where it starts, every joint held near its starting angle by a
 // posture task in the null space; τ = A J̄ (ẍ_cmd − J̇ v) + b + g + Nᵀ τ₀
-// (wholebody::OperationalSpaceControl). Each joint's torque command goes to its
+// (wholebody::OperationalSpaceControl), optionally plus the actuators' identified
+// output-side damping at the joint (OscSetup::compensate_load_damping). Each joint's torque command goes to its
 // actuator the way the robot does it: F_d = τ_d N_l(q) (the linkage, model/actuator.hpp)
 // on "<joint>.force_d", for that joint's force controller (a loop program on the bus).
 //
@@ -49,6 +50,10 @@ struct OscSetup {
   double rate_hz = 1000;
   double delay_s = 0.0;
   std::string q_signal = "q", qd_signal = "qd";            // J.q, J.qd unless given
+  // Add each actuator's output-side damping at the joint, B_l r(q)² q̇_ref (Table I's
+  // B_l, which the rigid-body model lacks), to the OSC torque: a feedforward at the
+  // least-dissipation joint rates for the reference's rate (osc_controller.cpp).
+  bool compensate_load_damping = false;
   std::string where;                                       // "file:line:col" of the osc map
 };
 
