@@ -1,0 +1,69 @@
+// No heap allocation in a step of the operational space controller on the bus
+// (sim::OscController: the robot model's update over model::RobotDynamics, the point and
+// posture tasks, the OSC law, the load-damping feedforward and the torque -> force
+// conversion) after construction. The C allocator is interposed in this executable to
+// count (as in tests/model/test_alloc_steps.cpp); skipped under AddressSanitizer.
+#include <gtest/gtest.h>
+
+#include "sanitizer.hpp"
+
+#include <atomic>
+#include <cstdlib>
+#include <vector>
+
+#include "dmbd/model/actuator.hpp"
+#include "dmbd/model/robot_description.hpp"
+#include "dmbd/sim/osc_controller.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}
+
+#if !DMBD_ASAN
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+}
+
+extern "C" {
+void* malloc(std::size_t n) {
+  ++g_allocations;
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t m) {
+  ++g_allocations;
+  return __libc_calloc(n, m);
+}
+void* realloc(void* p, std::size_t n) {
+  ++g_allocations;
+  return __libc_realloc(p, n);
+}
+}
+#endif  // !DMBD_ASAN
+
+namespace dmbd::sim {
+namespace {
+
+TEST(NoAllocation, OscControllerStep) {
+  DMBD_SKIP_UNDER_ASAN();
+  const model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
+  X_WB.translation().z() = 1.3;
+  OscSetup setup;
+  setup.trajectory.amplitude_m = Eigen::Vector3d(0.15, 0, 0.05);
+  setup.trajectory.frequency_hz = 0.5;
+  setup.compensate_load_damping = true;
+  const std::vector<std::pair<std::string, double>> q0 = {{"l_knee", 1.2}, {"r_knee", 1.2}};
+  OscController osc(robot, X_WB, 9.81, model::draco_actuators(), q0, setup, 1000);
+  std::vector<double> u(static_cast<size_t>(osc.num_inputs()), 0.0), y(static_cast<size_t>(osc.num_outputs()), 0.0);
+  for (int k = 0; k < 10; ++k) u[static_cast<size_t>(2 * k + 1)] = 0.1 * (k + 1);  // joint rates
+  osc.step(u.data(), y.data());  // warm-up
+  const long before = g_allocations.load();
+  for (int tick = 0; tick < 200; ++tick) osc.step(u.data(), y.data());
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(osc.tick_times_us().size(), 201u);
+}
+
+}  // namespace
+}  // namespace dmbd::sim
