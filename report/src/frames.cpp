@@ -1,12 +1,16 @@
 // The frame variant drawn from its log: the joints' logged angles through the robot's
 // forward kinematics, the logged base pose for a floating robot, the logged contact
-// forces as arrows, the centre of mass from the description's masses.
+// forces as arrows, the centre of mass from the description's masses, the operational
+// space controller's desired and measured point as paths when it was logged, and a
+// table under a fixed base.
 #include "frames.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 #include <fmt/format.h>
@@ -16,6 +20,7 @@
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/report/robot_scene.hpp"
 #include "dmbd/viz/plot.hpp"
+#include "dmbd/viz/primitives.hpp"
 #include "dmbd/viz/renderer.hpp"
 #include "dmbd/viz/video.hpp"
 
@@ -37,6 +42,11 @@ struct PoseColumns {
     int force;  // "contact.K.fx" (then fy, fz), or -1
   };
   std::vector<Sphere> spheres;
+  // The operational space controller's point (sim's OscController, world, m): "osc.x_d",
+  // "osc.y_d", "osc.z_d" (desired), "osc.x", "osc.y", "osc.z" (measured); drawn only when
+  // all six were logged.
+  std::array<int, 6> osc{-1, -1, -1, -1, -1, -1};
+  bool has_osc() const { return std::all_of(osc.begin(), osc.end(), [](int k) { return k >= 0; }); }
 };
 
 bool one_dof(model::JointType t) {
@@ -56,6 +66,8 @@ PoseColumns pose_columns(const model::RobotDescription& robot, const sim::Varian
     c.base = r.log.find("base.x");
     if (c.base < 0) throw InputError(file + ": variant '" + r.name + "' logged no 'base.x': its frames cannot be drawn");
   }
+  const char* osc_names[6] = {"osc.x_d", "osc.y_d", "osc.z_d", "osc.x", "osc.y", "osc.z"};
+  for (int i = 0; i < 6; ++i) c.osc[static_cast<std::size_t>(i)] = r.log.find(osc_names[i]);
   int k = 0;
   for (std::size_t l = 0; l < robot.links.size(); ++l)
     for (const auto& sh : robot.links[l].collisions)
@@ -87,10 +99,39 @@ std::vector<Eigen::Isometry3d> link_poses(const model::RobotDescription& robot, 
   return model::link_frames(robot, q, base_pose(log, c, row));
 }
 
+// The controlled point's path over the last kPathWindow_s of the run up to the frame's
+// sample (that sample included): long enough to show a whole period of the shipped
+// trajectories (1.4 Hz and 0.5 Hz: 0.7 s and 2 s), short enough that the trace does not
+// pile up over a long run. Samples that are not finite (none logged yet) break the line.
+constexpr double kPathWindow_s = 2.0;
+const viz::Color kDesiredColor{0, 190, 255}, kMeasuredColor{255, 40, 200};
+
+void add_osc_paths(const sim::Log& log, const PoseColumns& c, std::size_t row, viz::Overlays& o) {
+  if (!c.has_osc()) return;
+  const std::vector<double>& t = log.time();
+  const auto first = static_cast<std::size_t>(
+      std::lower_bound(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(row), t[row] - kPathWindow_s) - t.begin());
+  viz::PathOverlay desired, measured;
+  desired.color = kDesiredColor;
+  desired.dashed = true;
+  desired.label = "desired";
+  measured.color = kMeasuredColor;
+  measured.label = "measured";
+  for (std::size_t i = first; i <= row; ++i) {
+    desired.points_W.emplace_back(at(log, c.osc[0], i), at(log, c.osc[1], i), at(log, c.osc[2], i));
+    measured.points_W.emplace_back(at(log, c.osc[3], i), at(log, c.osc[4], i), at(log, c.osc[5], i));
+  }
+  // The measured path under the desired one: where they coincide, the measured colour
+  // shows between the desired path's dashes.
+  o.paths.push_back(std::move(measured));
+  o.paths.push_back(std::move(desired));
+}
+
 viz::Overlays overlays(const model::RobotDescription& robot, const sim::Log& log, const PoseColumns& c, std::size_t row,
                        const std::vector<Eigen::Isometry3d>& X, const std::string& title) {
   viz::Overlays o;
   o.text_lines = {title, fmt::format("t = {:.3f} s", log.time()[row])};
+  add_osc_paths(log, c, row, o);
   o.com_W = model::center_of_mass(robot, X);
   for (const auto& s : c.spheres) {
     if (s.force < 0) continue;
@@ -99,6 +140,76 @@ viz::Overlays overlays(const model::RobotDescription& robot, const sim::Log& log
     if (f.allFinite() && f.norm() > 1e-3) o.forces.push_back({p, f, viz::Color{230, 50, 40}});
   }
   return o;
+}
+
+// The table a fixed base is clamped to (the paper's table tests), one scene body in the
+// world at X_WT: T at the base origin, z up, x along the base's heading (its x axis
+// seen from above). The top (kTableDepth_m along x, kTableWidth_m across, kTableTop_m
+// thick) has its upper face at the bottom of the root link's geometry (at the base
+// origin for a root without geometry). Its front edge is kTableClear_m behind every
+// other link's mesh that reaches into the top's height (DRACO's hips), so the legs hang
+// free in front of the table and the three-quarter front view sees them; the torso's
+// rear rests on it. A top centred under the torso would hide the thighs from that view
+// and have the legs pass through it. It is centred under the root's geometry instead
+// when nothing reaches into it, or when the edge would leave the root's geometry
+// wholly in front of it. Four legs go down to the ground (z = 0) when the top's
+// underside is at least kTableMinLegs_m above it. Placed once, from the first frame.
+constexpr double kTableDepth_m = 0.5, kTableWidth_m = 0.6, kTableTop_m = 0.04, kTableLeg_m = 0.04,
+                 kTableClear_m = 0.02, kTableMinLegs_m = 0.1;
+const Eigen::Vector4f kTableTopRgba{0.78f, 0.64f, 0.42f, 1.0f}, kTableLegRgba{0.62f, 0.50f, 0.33f, 1.0f};
+
+struct Table {
+  viz::SceneBody body;
+  Eigen::Isometry3d X_WT = Eigen::Isometry3d::Identity();
+};
+
+Table table_under(const viz::Scene& robot_scene, const std::vector<Eigen::Isometry3d>& X, const Eigen::Isometry3d& X_WB) {
+  Table t;
+  t.body.name = "table";
+  const Eigen::Vector3d x_B = X_WB.linear().col(0);
+  t.X_WT.translation() = X_WB.translation();
+  t.X_WT.linear() = Eigen::AngleAxisd(std::atan2(x_B.y(), x_B.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Isometry3d X_TW = t.X_WT.inverse();
+  // Bounds in T of each mesh at the first frame.
+  const auto mesh_box = [&](std::size_t body, const viz::SceneMesh& m) {
+    Eigen::AlignedBox3d b;
+    const Eigen::Isometry3d X_TL = X_TW * X[body];
+    for (const auto& v : m.vertices) b.extend(X_TL * v.cast<double>());
+    return b;
+  };
+  Eigen::AlignedBox3d root;
+  for (const auto& m : robot_scene.bodies.front().meshes) root.extend(mesh_box(0, m));
+  const double z_top = root.isEmpty() ? 0.0 : root.min().z();
+  const double x_mid = root.isEmpty() ? 0.0 : root.center().x(), y_mid = root.isEmpty() ? 0.0 : root.center().y();
+  double x_behind = std::numeric_limits<double>::infinity();  // the rearmost point reaching into the top
+  for (std::size_t b = 1; b < robot_scene.bodies.size(); ++b)
+    for (const auto& m : robot_scene.bodies[b].meshes) {
+      const Eigen::AlignedBox3d box = mesh_box(b, m);
+      if (!box.isEmpty() && box.min().z() < z_top && box.max().z() > z_top - kTableTop_m - kTableClear_m)
+        x_behind = std::min(x_behind, box.min().x());
+    }
+  double x_front = x_mid + 0.5 * kTableDepth_m;
+  if (std::isfinite(x_behind) && (root.isEmpty() || x_behind - kTableClear_m > root.min().x()))
+    x_front = x_behind - kTableClear_m;
+  const Eigen::Vector3d top_centre(x_front - 0.5 * kTableDepth_m, y_mid, z_top - 0.5 * kTableTop_m);
+  viz::SceneMesh top = viz::transformed(viz::box_mesh({kTableDepth_m, kTableWidth_m, kTableTop_m}),
+                                        Eigen::Isometry3d(Eigen::Translation3d(top_centre)));
+  top.rgba = kTableTopRgba;
+  t.body.meshes.push_back(std::move(top));
+  const double underside_W = X_WB.translation().z() + z_top - kTableTop_m;  // T is level: z differs by the origin's
+  if (underside_W >= kTableMinLegs_m)
+    for (const double sx : {-1.0, 1.0})
+      for (const double sy : {-1.0, 1.0}) {
+        const double inset = 0.03 + 0.5 * kTableLeg_m;
+        const Eigen::Vector3d centre(top_centre.x() + sx * (0.5 * kTableDepth_m - inset),
+                                     top_centre.y() + sy * (0.5 * kTableWidth_m - inset),
+                                     z_top - kTableTop_m - 0.5 * underside_W);
+        viz::SceneMesh leg = viz::transformed(viz::box_mesh({kTableLeg_m, kTableLeg_m, underside_W}),
+                                              Eigen::Isometry3d(Eigen::Translation3d(centre)));
+        leg.rgba = kTableLegRgba;
+        t.body.meshes.push_back(std::move(leg));
+      }
+  return t;
 }
 
 // A three-quarter view from the front left that frames the robot's bounds, unless the
@@ -160,8 +271,15 @@ Frames write_frames(const sim::ScenarioRun& run, const std::string& dir, const R
   const PoseColumns cols = pose_columns(robot, *r, *v, s.file);
   const int w = options.width_px.value_or(s.frames.width_px), h = options.height_px.value_or(s.frames.height_px);
   const viz::Scene scene = scene_from_robot(robot);
+  // A fixed base stands on a table: one more scene body, after the links. The camera
+  // still frames the robot alone (make_camera below), so it is as large as without it.
+  std::optional<Table> table;
+  if (v->robot.base == model::BaseMode::Fixed && !scene.bodies.empty())
+    table = table_under(scene, link_poses(robot, r->log, cols, 0), cols.X_WB);
+  viz::Scene drawn = scene;
+  if (table) drawn.bodies.push_back(table->body);
   viz::Renderer renderer(w, h);
-  renderer.set_scene(scene);
+  renderer.set_scene(drawn);
   const Step step = row_step(r->log, s.frames);
   const std::size_t n = step.n;
   out.video_fps = step.video_fps;
@@ -172,8 +290,11 @@ Frames write_frames(const sim::ScenarioRun& run, const std::string& dir, const R
   for (std::size_t row = 0; row < r->log.rows(); row += n) {
     const auto X = link_poses(robot, r->log, cols, row);
     if (!cam) cam = make_camera(s.frames, options, scene, X, w, h);
+    std::vector<Eigen::Isometry3d> X_drawn = X;
+    if (table) X_drawn.push_back(table->X_WT);
     const auto t0 = std::chrono::steady_clock::now();
-    const cv::Mat& img = renderer.render(X, *cam, overlays(robot, r->log, cols, row, X, s.name + "  |  " + out.variant));
+    const cv::Mat& img =
+        renderer.render(X_drawn, *cam, overlays(robot, r->log, cols, row, X, s.name + "  |  " + out.variant));
     out.render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string name = fmt::format("frames/frame_{:05d}.png", out.frames.size());
     write_file_atomic((fs::path(dir) / name).string(), viz::encode_png(img));

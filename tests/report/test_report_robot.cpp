@@ -301,6 +301,17 @@ TEST_F(Draco, NoHeapAllocationPerFrameAfterWarmUp) {
   ov.text_lines = {"t = 0.000 s", "phase: stance"};
   ov.com_W = Eigen::Vector3d(0, 0, 0.8);
   ov.forces.push_back({Eigen::Vector3d(0, 0.17, 0), Eigen::Vector3d(0, 0, 180), {230, 50, 40}});
+  // Paths, solid and dashed, with legend entries; both cross the near plane of cams[3].
+  PathOverlay measured, desired;
+  for (int i = 0; i < 500; ++i) {
+    const double a = 2 * M_PI * i / 250;
+    measured.points_W.emplace_back(0.5 * std::cos(a), 0.2 + 0.5 * std::sin(a), 0.4);
+    desired.points_W.emplace_back(0.5 * std::cos(a), 0.2 + 0.5 * std::sin(a), 0.45);
+  }
+  measured.label = "measured";
+  desired.dashed = true;
+  desired.label = "desired";
+  ov.paths = {measured, desired};
   std::vector<Camera> cams;
   for (int k = 0; k < 4; ++k) {
     Camera c = default_robot_camera(1.3, kW, kH);

@@ -1,5 +1,6 @@
 // Reports drawn from runs (dmbd::report): frames from the logged poses show the robot
-// moving; a report redrawn from the run directory (sim::read_run, `dmbd report`) is the
+// moving, a fixed base on a table, the operational space controller's desired and
+// measured paths when they were logged; a report redrawn from the run directory (sim::read_run, `dmbd report`) is the
 // one drawn straight after the simulation, pixel for pixel; the files listed are the
 // files written, nothing else is left behind, stale frames are removed.
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "../sim/sim_test_support.hpp"
 #include "dmbd/report/report.hpp"
@@ -94,6 +96,155 @@ TEST(ReportFrames, FramesShowTheRobotMoving) {
   std::printf("pixels changed between the first and last frame: driven %.4f, locked %.4f\n", moved_fraction[0], moved_fraction[1]);
   EXPECT_GT(moved_fraction[0], 0.005);
   EXPECT_LT(moved_fraction[1], 0.001);
+}
+
+// ---------------------------------------------------------------------------------
+// Tables and paths in the frames. DRACO with its torso at 1.3 m, fixed or floating,
+// the knee driven for 0.1 s, seen from a fixed camera at 640 x 360 (frames at t = 0,
+// 0.1 s).
+
+const Eigen::Vector3d kCameraPosition(1.6, -1.6, 1.0), kCameraLookAt(0, 0, 0.8);
+
+dmbd::sim::ScenarioRun short_run(const TempDir& dir, const std::string& name, bool fixed) {
+  const std::string path = dir.file(name + ".yaml");
+  write_text(path, "name: " + name + "\n" +
+                       "robot: {base: " + (fixed ? "fixed" : "floating") +
+                       ", base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], initial: {l_knee: 1.0}}\n"
+                       "duration_s: 0.1\n"
+                       "references:\n"
+                       "  l_knee.current: {type: constant, value: 2.0}\n"
+                       "frames: {fps: 10, width: 640, height: 360, camera: {position: [1.6, -1.6, 1.0], look_at: [0, 0, 0.8]}}\n");
+  return dmbd::sim::run_scenario(load_scenario(path), dir.file(name));
+}
+
+dmbd::viz::Camera test_camera() {
+  dmbd::viz::Camera c;
+  c.position = kCameraPosition;
+  c.look_at = kCameraLookAt;
+  c.width_px = 640;
+  c.height_px = 360;
+  return c;
+}
+
+// The table's wood, as shaded: hue 30-44 deg (the top's colour, sRGB (199, 163, 107),
+// is at 36 deg; DRACO's orange actuators are at 26 deg and stay there when their edges
+// blend into grey), saturation 0.25-0.65 (the orange's is 0.9), not dark.
+cv::Mat table_coloured(const cv::Mat& bgr) {
+  cv::Mat hsv;
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);  // H in [0, 180)
+  cv::Mat m;
+  cv::inRange(hsv, cv::Scalar(15, 64, 50), cv::Scalar(22, 166, 255), m);
+  return m;
+}
+
+// A fixed base is drawn on a table: the first frame has many wood-coloured pixels, and
+// they lie under the torso in the picture (below the base origin's projection, down to
+// where the ground is), where the floating robot's frame, the same robot from the same
+// camera without the table, has none.
+TEST(ReportFrames, FixedBaseStandsOnATableFloatingBaseDoesNot) {
+  TempDir dir;
+  const dmbd::viz::Camera cam = test_camera();
+  const Eigen::Vector2d torso = *dmbd::viz::project(cam, Eigen::Vector3d(0, 0, 1.3));
+  const Eigen::Vector2d low = *dmbd::viz::project(cam, Eigen::Vector3d(0, 0, 0.4));
+  for (bool fixed : {true, false}) {
+    SCOPED_TRACE(fixed ? "fixed base" : "floating base");
+    const std::string name = fixed ? "fixed" : "floating";
+    const auto run = short_run(dir, name, fixed);
+    ASSERT_EQ(dmbd::report::write_report(run, dir.file(name)).frames, 2);
+    const cv::Mat frame = cv::imread(dir.file(name) + "/frames/frame_00000.png", cv::IMREAD_COLOR);
+    ASSERT_EQ(frame.size(), cv::Size(640, 360));
+    const cv::Mat wood = table_coloured(frame);
+    const int n = cv::countNonZero(wood);
+    if (!fixed) {
+      EXPECT_EQ(n, 0);
+      continue;
+    }
+    EXPECT_GT(n, 0.02 * 640 * 360);
+    const cv::Moments m = cv::moments(wood, true);
+    EXPECT_GT(m.m01 / m.m00, torso.y()) << "the table's centroid is not below the torso";
+    const cv::Rect box = cv::boundingRect(wood);
+    EXPECT_LT(box.y, torso.y() + 20) << "the table top is not up at the torso";
+    EXPECT_GT(box.y + box.height, low.y()) << "the table's legs do not go down";
+    // Wood right under the torso's projection (within 100 px of its column).
+    EXPECT_GT(cv::countNonZero(wood(cv::Rect(int(torso.x()) - 100, int(torso.y()), 200, 360 - int(torso.y())))), 500);
+  }
+}
+
+// A log with the operational space controller's six columns (osc.x_d ... osc.z) gets
+// the desired (dashed, (0, 190, 255)) and measured (solid, (255, 40, 200)) paths: the
+// paths' colours along the projections of the logged points, in the picture away
+// from the legend; the same log without those columns has neither colour anywhere.
+// The columns are added to a real run's log: circles in the plane y = 0 in front of
+// the robot, centred 0.35 m ahead at 0.7 m up, the desired one of 0.15 m radius and the
+// measured one of 0.09 m, once round in the run's 0.1 s.
+TEST(ReportFrames, OscPathsInTheirColours) {
+  TempDir dir;
+  auto run = short_run(dir, "osc", true);
+  const dmbd::sim::Log& old = run.runs[0].log;
+  const Eigen::Vector3d centre(0.35, 0, 0.7);
+  const auto point = [&](double t, double radius) {
+    const double a = 2 * M_PI * t / 0.1;
+    return Eigen::Vector3d(centre + radius * Eigen::Vector3d(std::cos(a), 0, std::sin(a)));
+  };
+  dmbd::sim::Log log;
+  for (std::size_t c = 1; c < old.columns(); ++c) log.add_column(old.name(int(c)), old.unit(int(c)));
+  const int osc = log.add_column("osc.x_d", "m");
+  for (const char* n : {"osc.y_d", "osc.z_d", "osc.x", "osc.y", "osc.z"}) log.add_column(n, "m");
+  for (std::size_t r = 0; r < old.rows(); ++r) {
+    const double t = old.time()[r];
+    log.begin_row(t);
+    for (std::size_t c = 1; c < old.columns(); ++c) log.set(int(c), old.column(int(c))[r]);
+    const Eigen::Vector3d d = point(t, 0.15), m = point(t, 0.09);
+    for (int k = 0; k < 3; ++k) {
+      log.set(osc + k, d[k]);
+      log.set(osc + 3 + k, m[k]);
+    }
+  }
+  const cv::Vec3b desired(255, 190, 0), measured(200, 40, 255);  // BGR
+  const auto count = [](const cv::Mat& img, const cv::Vec3b& c) {
+    int n = 0;
+    for (int r = 0; r < img.rows; ++r)
+      for (int k = 0; k < img.cols; ++k) n += img.at<cv::Vec3b>(r, k) == c;
+    return n;
+  };
+  // Without the columns: neither colour.
+  ASSERT_EQ(dmbd::report::write_report(run, dir.file("osc")).frames, 2);
+  const cv::Mat plain = cv::imread(dir.file("osc") + "/frames/frame_00001.png", cv::IMREAD_COLOR);
+  EXPECT_EQ(count(plain, desired), 0);
+  EXPECT_EQ(count(plain, measured), 0);
+
+  run.runs[0].log = log;
+  ASSERT_EQ(dmbd::report::write_report(run, dir.file("osc")).frames, 2);
+  const cv::Mat frame = cv::imread(dir.file("osc") + "/frames/frame_00001.png", cv::IMREAD_COLOR);  // t = 0.1 s
+  // Walking round each circle in 360 steps (under 1 px each), the path's colour within
+  // 1 px: all the way round the measured one; on and off round the desired one, the
+  // dashes (10 px on, 8 px off) turning on and off about twice per 18 px.
+  const dmbd::viz::Camera cam = test_camera();
+  const auto near = [&](const Eigen::Vector3d& p, const cv::Vec3b& c) {
+    const Eigen::Vector2d uv = *dmbd::viz::project(cam, p);
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc)
+        if (frame.at<cv::Vec3b>(int(uv.y()) + dr, int(uv.x()) + dc) == c) return true;
+    return false;
+  };
+  int on_desired = 0, on_measured = 0, switches = 0;
+  double circumference_px = 0;
+  bool prev = near(point(0, 0.15), desired);
+  for (int i = 0; i < 360; ++i) {
+    const double t = 0.1 * i / 360;
+    const bool d = near(point(t, 0.15), desired);
+    on_desired += d;
+    switches += d != prev;
+    prev = d;
+    on_measured += near(point(t, 0.09), measured);
+    circumference_px +=
+        (*dmbd::viz::project(cam, point(t + 0.1 / 360, 0.15)) - *dmbd::viz::project(cam, point(t, 0.15))).norm();
+  }
+  EXPECT_GE(on_measured, 355);
+  EXPECT_GT(on_desired, 0.35 * 360);
+  EXPECT_LT(on_desired, 0.85 * 360);
+  EXPECT_GT(switches, 0.5 * 2 * circumference_px / 18);
+  EXPECT_LT(switches, 1.5 * 2 * circumference_px / 18);
 }
 
 

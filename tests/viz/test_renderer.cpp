@@ -1,10 +1,12 @@
 // Tests for the mesh renderer (dmbd::viz::Renderer) on primitive scenes: projection
 // against the pinhole formula, z-buffer order independence, silhouette area against
 // the analytic projected area, Lambert shading, the ground grid, near-plane clipping,
-// overlays. DRACO's scene and frames: tests/report/test_report_robot.cpp.
+// overlays (paths here; text, CoM and arrows with DRACO's scene in
+// tests/report/test_report_robot.cpp, which also checks render() does not allocate).
 #include "dmbd/base/file.hpp"
 #include "dmbd/viz/renderer.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
@@ -438,6 +440,183 @@ TEST(Shading, VertexNormalsAreInterpolated) {
   renderer.set_scene(one_body(flat));
   const cv::Mat img_flat = renderer.render({X}, cam).clone();
   EXPECT_EQ(pixel_at(img_flat, *project(cam, p_lit)), pixel_at(img_flat, *project(cam, p_dark)));
+}
+
+// ---------------------------------------------------------------------------------
+// Path overlays.
+
+// Distance from the pixel centre (c + 0.5, r + 0.5) to the segment a-b, and where its
+// nearest point lies along it (0 at a, 1 at b).
+double pixel_to_segment(int c, int r, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double* s_out = nullptr) {
+  const Eigen::Vector2d p(c + 0.5, r + 0.5), ab = b - a;
+  const double s = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  if (s_out) *s_out = s;
+  return (p - (a + s * ab)).norm();
+}
+
+// A box in the middle of the scene, so that paths cross geometry as well as the ground.
+Scene box_scene() { return one_body(coloured(box_mesh({0.3, 0.3, 0.3}), 0.3f, 0.3f, 0.3f)); }
+const Eigen::Isometry3d kBoxPose = pose({0, 0, 0.5});
+
+// A path sampled densely (400 points: most are merged on screen) along the world line
+// P0-P1 is drawn along project(P0)-project(P1) (a line projects to a line): every pixel
+// whose centre is within 0.5 px of it, away from the ends, is exactly the path's colour
+// (fully covered); every pixel more than 3 px from it is untouched (the colour's pen is
+// 1 px + 0.5 px of anti-aliasing from the line, the halo's 2 px + 0.5 px). Where the
+// line crosses the box, it is drawn over it.
+TEST(PathOverlay, SolidPathDrawnWhereProjectedInItsColour) {
+  const Camera cam = camera({2.5, 1.8, 1.4}, {0, 0, 0.5});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(box_scene());
+  const cv::Mat base = renderer.render({kBoxPose}, cam).clone();
+  const Eigen::Vector3d P0(-0.6, 0.5, 0.3), P1(0.7, -0.4, 0.9);
+  Overlays ov;
+  PathOverlay path;
+  path.color = {255, 0, 255};
+  for (int i = 0; i < 400; ++i) path.points_W.push_back(P0 + (P1 - P0) * (i / 399.0));
+  ov.paths.push_back(path);
+  const cv::Mat img = renderer.render({kBoxPose}, cam, ov).clone();
+
+  const Eigen::Vector2d a = *project(cam, P0), b = *project(cam, P1);
+  ASSERT_GT((b - a).norm(), 200);  // long enough to mean something
+  int on_line = 0, on_line_coloured = 0, far = 0, far_changed = 0, over_box = 0;
+  for (int r = 0; r < kH; ++r)
+    for (int c = 0; c < kW; ++c) {
+      double s = 0;
+      const double d = pixel_to_segment(c, r, a, b, &s);
+      const cv::Vec3b px = img.at<cv::Vec3b>(r, c);
+      if (d <= 0.5 && s > 0.01 && s < 0.99) {
+        ++on_line;
+        const bool coloured = px == cv::Vec3b(255, 0, 255);  // BGR
+        on_line_coloured += coloured;
+        over_box += coloured && renderer.body_ids().at<std::int16_t>(r, c) == 0;
+      } else if (d > 3.0) {
+        ++far;
+        far_changed += px != base.at<cv::Vec3b>(r, c);
+      }
+    }
+  EXPECT_GT(on_line, 200);
+  EXPECT_EQ(on_line_coloured, on_line);
+  EXPECT_GT(over_box, 10);  // the box is under part of the line and does not hide it
+  EXPECT_GT(far, kW * kH / 2);
+  EXPECT_EQ(far_changed, 0);
+}
+
+// Dashed: along the line, runs of the colour alternate with gaps (10 px on, 8 px off
+// at the default 2 px width), the dashes running on across the merged vertices.
+TEST(PathOverlay, DashedPathAlternatesAlongTheLine) {
+  const Camera cam = camera({2.5, 1.8, 1.4}, {0, 0, 0.5});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(Scene{});
+  const Eigen::Vector3d P0(-0.6, 0.5, 0.3), P1(0.7, -0.4, 0.9);
+  Overlays ov;
+  PathOverlay path;
+  path.color = {255, 0, 255};
+  path.dashed = true;
+  for (int i = 0; i < 400; ++i) path.points_W.push_back(P0 + (P1 - P0) * (i / 399.0));
+  ov.paths.push_back(path);
+  const cv::Mat& img = renderer.render({}, cam, ov);
+  const Eigen::Vector2d a = *project(cam, P0), b = *project(cam, P1);
+  // Walk the line pixel by pixel: coloured or not, and count the changes.
+  const double len = (b - a).norm();
+  int coloured = 0, samples = 0, changes = 0;
+  bool prev = false;
+  for (double t = 2; t < len - 2; t += 1.0) {
+    const Eigen::Vector2d p = a + (b - a) * (t / len);
+    const bool c = pixel_at(img, p) == cv::Vec3b(255, 0, 255);
+    if (samples > 0 && c != prev) ++changes;
+    prev = c;
+    coloured += c;
+    ++samples;
+  }
+  const double on_fraction = double(coloured) / samples;
+  EXPECT_GT(on_fraction, 0.4);
+  EXPECT_LT(on_fraction, 0.7);
+  // About two changes per 18 px period.
+  EXPECT_GT(changes, 0.7 * 2 * len / 18);
+  EXPECT_LT(changes, 1.5 * 2 * len / 18);
+}
+
+// Points behind the camera are left out: a path from in front of the camera to behind
+// it is drawn up to the near plane (its visible end is coloured, nothing throws); one
+// wholly behind the camera, one with a single point and an empty one draw nothing.
+// An empty list of paths changes nothing: the image is pixel-identical to the 3-D pass
+// alone (and so is one whose paths are all invisible and unlabelled).
+TEST(PathOverlay, BehindTheCameraAndEmptyPathsDrawNothing) {
+  const Camera cam = camera({2.5, 1.8, 1.4}, {0, 0, 0.5});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(box_scene());
+  const cv::Mat base = renderer.render({kBoxPose}, cam).clone();
+  Overlays none;
+  none.paths.clear();
+  EXPECT_EQ(cv::norm(renderer.render({kBoxPose}, cam, none), base, cv::NORM_INF), 0.0);
+
+  const Eigen::Vector3d fwd = (cam.look_at - cam.position).normalized();
+  Overlays invisible;
+  PathOverlay behind;
+  behind.color = {255, 0, 255};
+  for (int i = 0; i < 50; ++i)
+    behind.points_W.push_back(cam.position - (0.5 + 0.02 * i) * fwd + Eigen::Vector3d(0.01 * i, 0, 0));
+  invisible.paths.push_back(behind);
+  PathOverlay single;
+  single.points_W = {Eigen::Vector3d(0, 0, 1)};
+  invisible.paths.push_back(single);
+  invisible.paths.push_back(PathOverlay{});
+  EXPECT_EQ(cv::norm(renderer.render({kBoxPose}, cam, invisible), base, cv::NORM_INF), 0.0);
+
+  Overlays crossing;
+  PathOverlay through;
+  through.color = {255, 0, 255};
+  const Eigen::Vector3d front(0.2, -0.3, 0.9), back = cam.position - 1.0 * fwd;
+  for (int i = 0; i <= 100; ++i) through.points_W.push_back(front + (back - front) * (i / 100.0));
+  crossing.paths.push_back(through);
+  cv::Mat img;
+  ASSERT_NO_THROW(img = renderer.render({kBoxPose}, cam, crossing).clone());
+  const Eigen::Vector2d uv = *project(cam, front + 0.01 * (back - front));
+  bool found = false;
+  for (int dr = -1; dr <= 1; ++dr)
+    for (int dc = -1; dc <= 1; ++dc)
+      found = found || img.at<cv::Vec3b>(int(uv.y()) + dr, int(uv.x()) + dc) == cv::Vec3b(255, 0, 255);
+  EXPECT_TRUE(found);
+}
+
+// A labelled path gets a legend entry in the top-right corner: a sample of its line in
+// its colour and the label in white on a darkened panel; an unlabelled one does not.
+TEST(PathOverlay, LabelGoesIntoTheLegend) {
+  const Camera cam = camera({2.5, 1.8, 1.4}, {0, 0, 0.5});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(Scene{});
+  const cv::Mat base = renderer.render({}, cam).clone();
+  PathOverlay path;
+  path.color = {255, 0, 255};
+  path.points_W = {Eigen::Vector3d(-0.3, 0, 0.2), Eigen::Vector3d(0.3, 0, 0.2)};  // far from the corner
+  const cv::Rect corner(kW / 2, 0, kW / 2, kH / 4);
+  Overlays unlabelled;
+  unlabelled.paths.push_back(path);
+  EXPECT_EQ(cv::norm(renderer.render({}, cam, unlabelled)(corner), base(corner), cv::NORM_INF), 0.0);
+
+  Overlays labelled;
+  path.label = "measured";
+  labelled.paths.push_back(path);
+  const cv::Mat img = renderer.render({}, cam, labelled).clone();
+  // The panel: the pixels that changed, in the corner only, darker than they were.
+  cv::Mat diff;
+  cv::absdiff(img(corner), base(corner), diff);
+  cv::cvtColor(diff, diff, cv::COLOR_BGR2GRAY);
+  const cv::Rect panel = cv::boundingRect(diff > 0) + corner.tl();
+  EXPECT_GT(panel.x + panel.width, kW - 20);  // at the right edge, a small margin off it
+  EXPECT_LT(panel.y, 20);
+  EXPECT_GT(panel.width, 60);
+  EXPECT_GT(panel.height, 10);
+  cv::Mat grey, grey_base;
+  cv::cvtColor(img(panel), grey, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(base(panel), grey_base, cv::COLOR_BGR2GRAY);
+  EXPECT_LT(cv::mean(grey)[0], 0.6 * cv::mean(grey_base)[0]);
+  EXPECT_GT(cv::countNonZero(grey > 200), 30);  // the label's strokes
+  int sample = 0;
+  for (int r = panel.y; r < panel.y + panel.height; ++r)
+    for (int c = panel.x; c < panel.x + panel.width; ++c) sample += img.at<cv::Vec3b>(r, c) == cv::Vec3b(255, 0, 255);
+  EXPECT_GT(sample, 20);  // a 2 px wide line at least 24 px long
 }
 
 // ---------------------------------------------------------------------------------

@@ -483,6 +483,54 @@ bool project_segment(const Camera& cam, const Eigen::Isometry3d& X_CW, double f,
   return finite2(pa) && finite2(pb);
 }
 
+// The segment a-b drawn solid (on_px <= 0) or dashed: phase_px is the distance along
+// the dash pattern (on_px drawn, off_px skipped) at a, and comes back advanced by the
+// segment's length, so that a polyline's dashes run on across its vertices. Only the
+// part of the segment near the image is walked (a segment clipped at the near plane
+// can reach far outside it).
+void draw_stroke(const Canvas& cn, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double half_px, const Rgbf& col,
+                 float alpha, double on_px, double off_px, double& phase_px) {
+  if (!finite2(a) || !finite2(b)) return;
+  const double len = (b - a).norm();
+  if (!(len > 0)) return;
+  if (!(on_px > 0)) {
+    draw_segment(cn, a, b, half_px, col, alpha);
+    return;
+  }
+  // Parameter range [t0, t1] of the segment inside the image grown by the pen's reach.
+  const double m = half_px + 2.0;
+  const Eigen::Vector2d d = b - a;
+  double t0 = 0, t1 = 1;
+  for (int k = 0; k < 2; ++k) {
+    const double lo = -m, hi = (k == 0 ? cn.W : cn.H) + m;
+    if (std::fabs(d[k]) < 1e-12) {
+      if (a[k] < lo || a[k] > hi) t1 = -1;
+      continue;
+    }
+    double u = (lo - a[k]) / d[k], v = (hi - a[k]) / d[k];
+    if (u > v) std::swap(u, v);
+    t0 = std::max(t0, u);
+    t1 = std::min(t1, v);
+  }
+  const double period = on_px + std::max(0.0, off_px);
+  if (t0 >= t1) {
+    phase_px = std::fmod(phase_px + len, period);
+    return;
+  }
+  const Eigen::Vector2d dir = d / len;
+  double s = t0 * len;
+  phase_px = std::fmod(phase_px + s, period);
+  const double end = t1 * len;
+  while (s < end) {
+    const double ph = std::fmod(phase_px, period);
+    const double e = std::min(end, s + (ph < on_px ? on_px - ph : period - ph));
+    if (ph < on_px) draw_segment(cn, a + dir * s, a + dir * e, half_px, col, alpha);
+    phase_px = std::fmod(phase_px + (e - s), period);
+    s = e;
+  }
+  phase_px = std::fmod(phase_px + (len - end), period);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------
@@ -1235,6 +1283,50 @@ void Renderer::draw_overlays(const Camera& camera, const Overlays& ov) {
   const double f = focal_length_px(camera);
   const Rgbf black{0, 0, 0};
   const double w = std::max(0.5, ov.line_width_px);
+  const double dash_on_px = 4.0 * w + 2.0, dash_off_px = 3.0 * w + 2.0;
+
+  // Paths: each world segment clipped at the near plane and projected; on screen,
+  // vertices closer than kMerge_px to the last one drawn are merged into the next
+  // segment (the path's last vertex is always drawn to). A clipped or non-finite
+  // segment ends the line and the next visible one starts it again. First a dark halo
+  // along the whole path, then the colour over it.
+  constexpr double kMerge_px = 2.0;
+  for (const PathOverlay& path : ov.paths) {
+    const std::vector<Eigen::Vector3d>& pts = path.points_W;
+    if (pts.size() < 2) continue;
+    const double on = path.dashed ? dash_on_px : 0.0;
+    for (int pass = 0; pass < 2; ++pass) {
+      const Rgbf col = pass == 0 ? black : rgbf(path.color);
+      const double half = pass == 0 ? 0.5 * w + 1.0 : 0.5 * w;
+      const float alpha = pass == 0 ? 0.35f : 1.0f;
+      double phase = 0;
+      bool drawing = false;       // a line is under way: pen is its last vertex drawn
+      Eigen::Vector2d pen, last;  // last: the end of the line's last projected segment
+      const auto finish = [&] {
+        if (drawing && last != pen) draw_stroke(cvs, pen, last, half, col, alpha, on, dash_off_px, phase);
+        drawing = false;
+      };
+      for (std::size_t i = 1; i < pts.size(); ++i) {
+        Eigen::Vector2d a, b;
+        if (!pts[i - 1].allFinite() || !pts[i].allFinite() ||
+            !project_segment(camera, X_CW, f, pts[i - 1], pts[i], a, b)) {
+          finish();
+          continue;
+        }
+        if (!drawing || a != last) {  // first segment, or its start was clipped
+          finish();
+          pen = a;
+          drawing = true;
+        }
+        last = b;
+        if ((b - pen).squaredNorm() >= kMerge_px * kMerge_px) {
+          draw_stroke(cvs, pen, b, half, col, alpha, on, dash_off_px, phase);
+          pen = b;
+        }
+      }
+      finish();
+    }
+  }
 
   // Force arrows: shaft and a filled head, with a dark halo for contrast.
   for (const ForceArrow& fa : ov.forces) {
@@ -1291,47 +1383,76 @@ void Renderer::draw_overlays(const Camera& camera, const Overlays& ov) {
     }
   }
 
-  // Text lines on a dark translucent panel in the top-left corner.
-  if (!ov.text_lines.empty()) {
-    const int margin = std::max(6, text_line_px_ / 2), pad = std::max(4, text_line_px_ / 3);
-    int text_w = 0;
-    for (const std::string& line : ov.text_lines) {
-      int w_line = 0;
-      for (char ch : line) {
-        const int i = (ch >= 32 && ch < 127) ? ch - 32 : '?' - 32;
-        w_line += glyphs_[i].advance;
+  // Text: glyph masks blended at a pen position (baseline), panels darkened to 45%.
+  const auto glyph_of = [&](char ch) -> const Glyph& { return glyphs_[(ch >= 32 && ch < 127) ? ch - 32 : '?' - 32]; };
+  const auto text_width = [&](const std::string& text) {
+    int w_text = 0;
+    for (char ch : text) w_text += glyph_of(ch).advance;
+    return w_text;
+  };
+  const auto draw_text = [&](int pen_x, int pen_y, const std::string& text, const Rgbf& col) {
+    for (char ch : text) {
+      const Glyph& g = glyph_of(ch);
+      for (int gy = 0; gy < g.coverage.rows; ++gy) {
+        const int y = pen_y + g.y0 + gy;
+        if (y < 0 || y >= height_) continue;
+        const unsigned char* mrow = g.coverage.ptr<unsigned char>(gy);
+        for (int gx = 0; gx < g.coverage.cols; ++gx) {
+          const int x = pen_x + g.x0 + gx;
+          if (x < 0 || x >= width_ || mrow[gx] == 0) continue;
+          cvs.blend(x, y, col, mrow[gx] / 255.0f);
+        }
       }
-      text_w = std::max(text_w, w_line);
+      pen_x += g.advance;
+      if (pen_x >= width_) break;
     }
-    const int n_lines = static_cast<int>(ov.text_lines.size());
-    const int x_lo = margin, y_lo = margin;
-    const int x_hi = std::min(width_, margin + text_w + 2 * pad);
-    const int y_hi =
-        std::min(height_, margin + n_lines * text_line_px_ + 2 * pad - (text_line_px_ - text_ascent_px_) / 2);
+  };
+  const auto darken = [&](int x_lo, int y_lo, int x_hi, int y_hi) {
+    x_lo = std::max(0, x_lo);
+    y_lo = std::max(0, y_lo);
+    x_hi = std::min(width_, x_hi);
+    y_hi = std::min(height_, y_hi);
     for (int y = y_lo; y < y_hi; ++y) {
       unsigned char* row = image_.ptr<unsigned char>(y);
       for (int x = 3 * x_lo; x < 3 * x_hi; ++x) row[x] = static_cast<unsigned char>(row[x] * 45 / 100);
     }
-    const Rgbf white{255, 255, 255};
-    for (int li = 0; li < n_lines; ++li) {
-      int pen_x = margin + pad;
+  };
+  const Rgbf white{255, 255, 255};
+  const int margin = std::max(6, text_line_px_ / 2), pad = std::max(4, text_line_px_ / 3);
+
+  // Text lines on a dark translucent panel in the top-left corner.
+  if (!ov.text_lines.empty()) {
+    int text_w = 0;
+    for (const std::string& line : ov.text_lines) text_w = std::max(text_w, text_width(line));
+    const int n_lines = static_cast<int>(ov.text_lines.size());
+    darken(margin, margin, margin + text_w + 2 * pad,
+           margin + n_lines * text_line_px_ + 2 * pad - (text_line_px_ - text_ascent_px_) / 2);
+    for (int li = 0; li < n_lines; ++li)
+      draw_text(margin + pad, margin + pad + text_ascent_px_ + li * text_line_px_, ov.text_lines[li], white);
+  }
+
+  // Legend of the labelled paths on a dark panel in the top-right corner: per entry a
+  // sample of the line (its colour, solid or dashed), then the label in white.
+  int n_entries = 0, label_w = 0;
+  for (const PathOverlay& path : ov.paths)
+    if (!path.label.empty()) {
+      ++n_entries;
+      label_w = std::max(label_w, text_width(path.label));
+    }
+  if (n_entries > 0) {
+    const int sample_px = std::max(24, 2 * text_line_px_), gap = pad + 2;
+    const int x_hi = width_ - margin, x_lo = x_hi - (2 * pad + sample_px + gap + label_w);
+    darken(x_lo, margin, x_hi, margin + n_entries * text_line_px_ + 2 * pad - (text_line_px_ - text_ascent_px_) / 2);
+    int li = 0;
+    for (const PathOverlay& path : ov.paths) {
+      if (path.label.empty()) continue;
       const int pen_y = margin + pad + text_ascent_px_ + li * text_line_px_;
-      for (char ch : ov.text_lines[li]) {
-        const int gi = (ch >= 32 && ch < 127) ? ch - 32 : '?' - 32;
-        const Glyph& g = glyphs_[gi];
-        for (int gy = 0; gy < g.coverage.rows; ++gy) {
-          const int y = pen_y + g.y0 + gy;
-          if (y < 0 || y >= height_) continue;
-          const unsigned char* mrow = g.coverage.ptr<unsigned char>(gy);
-          for (int gx = 0; gx < g.coverage.cols; ++gx) {
-            const int x = pen_x + g.x0 + gx;
-            if (x < 0 || x >= width_ || mrow[gx] == 0) continue;
-            cvs.blend(x, y, white, mrow[gx] / 255.0f);
-          }
-        }
-        pen_x += g.advance;
-        if (pen_x >= width_) break;
-      }
+      const double y_mid = pen_y - 0.5 * text_ascent_px_;
+      double phase = 0;
+      draw_stroke(cvs, {x_lo + pad + 0.5 * w, y_mid}, {x_lo + pad + sample_px - 0.5 * w, y_mid}, 0.5 * w,
+                  rgbf(path.color), 1.0f, path.dashed ? dash_on_px : 0.0, dash_off_px, phase);
+      draw_text(x_lo + pad + sample_px + gap, pen_y, path.label, white);
+      ++li;
     }
   }
 }

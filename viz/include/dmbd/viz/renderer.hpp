@@ -8,6 +8,7 @@
 //   ov.text_lines = {"t = 1.234 s", "phase: double support"};
 //   ov.com_W = p_WCom;
 //   ov.forces.push_back({p_WFoot, f_W_N});
+//   ov.paths.push_back({desired_points_W, {0, 190, 255}, /*dashed=*/true, "desired"});
 //   const cv::Mat& frame = renderer.render(X_WB, camera, ov);  // per frame: only poses change
 //
 // World frame: z up, the ground is the plane z = 0. Camera frame C (OpenCV): x right,
@@ -99,13 +100,28 @@ struct ForceArrow {
   Color color{230, 50, 40};
 };
 
+// A polyline through world points (a trajectory: where a point was or should be), drawn
+// in its colour over a thin dark halo, solid or dashed (the dashes run on across its
+// vertices). Segments are clipped at the camera's near plane, so points behind the
+// camera are left out; a non-finite point breaks the line. Vertices closer than 2 px
+// on screen to the last one drawn are merged (a path logged at 1 kHz has many), except
+// the last one.
+struct PathOverlay {
+  std::vector<Eigen::Vector3d> points_W;  // m, world, in order
+  Color color{0, 190, 255};
+  bool dashed = false;
+  std::string label;  // not empty: an entry in the legend (top-right corner): a sample
+                      // of the line in its colour and style, then the label (ASCII)
+};
+
 struct Overlays {
   std::vector<std::string> text_lines;   // top-left corner, one per line, on a dark panel (ASCII)
   std::optional<Eigen::Vector3d> com_W;  // centre of mass: circled crosshair, a dashed drop line
                                          // and a ring on the ground at its projection (z = 0)
   std::vector<ForceArrow> forces;
+  std::vector<PathOverlay> paths;      // drawn first, under the arrows and the CoM marker
   double force_scale_m_per_N = 0.001;  // arrow length in the world per newton
-  double line_width_px = 2.0;          // arrows, CoM marker
+  double line_width_px = 2.0;          // arrows, CoM marker, paths
   Color com_color{255, 210, 0};
 };
 
