@@ -7,6 +7,8 @@
 //   current_saturation_fraction                      log samples with any of the leg's
 //                                                    applied currents at its limit
 //   osc_tick_us {median, max}                        one OSC evaluation's wall time
+// Figures: osc_ankle.png (Fig. 6c), osc_error.png, and per variant osc_torque_RUN.png
+// (Fig. 6b) and osc_current_RUN.png.
 #include <algorithm>
 #include <cmath>
 
@@ -93,6 +95,30 @@ plot::Figure point_figure(const std::vector<VariantResult>& runs, const std::str
   return fig;
 }
 
+// The point's error per axis, target − measured, every variant (mm).
+plot::Figure error_figure(const std::vector<VariantResult>& runs, double t0, const std::string& file) {
+  plot::Figure fig(1200, 900);
+  fig.title = "Ankle tracking error (desired - measured)";
+  for (const char* axis : {"x", "y", "z"}) {
+    auto& a = fig.add_axes();
+    a.y_label = std::string(axis) + " error (mm)";
+    a.x_tick_labels = std::string(axis) == "z";
+    if (a.x_tick_labels) a.x_label = "Time (s)";
+    if (t0 > 0) {
+      a.v_lines = {t0};
+      a.v_line_labels = {"metrics from here"};
+    }
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const auto& d = signal(runs[i], std::string("osc.") + axis + "_d", file);
+      const auto& y = signal(runs[i], std::string("osc.") + axis, file);
+      std::vector<double> e(d.size());
+      for (std::size_t k = 0; k < e.size(); ++k) e[k] = 1e3 * (d[k] - y[k]);
+      a.series.push_back({runs[i].name, runs[i].log.time(), e, plot::palette_color(i)});
+    }
+  }
+  return fig;
+}
+
 plot::Figure torque_figure(const VariantResult& r, const std::vector<std::string>& joints, const std::string& file) {
   plot::Figure fig(1200, 200 * static_cast<int>(std::max<std::size_t>(joints.size(), 1)) + 100);
   fig.title = r.name + ": joint torque, desired (dashed) and sensed (paper Fig. 6b)";
@@ -157,6 +183,7 @@ ExperimentResult osc_table(const Scenario& s, const std::vector<VariantResult>& 
     res.figures.emplace_back("osc_current_" + file_safe(r.name) + ".png", current_figure(r, joints, s.file));
   }
   res.figures.emplace_back("osc_ankle.png", point_figure(runs, s.file));
+  res.figures.emplace_back("osc_error.png", error_figure(runs, t0, s.file));
   res.notes.push_back(fmt::format("Errors over t >= {} s (after the path's smooth start); torque: desired τ_d against the actuator's "
                                   "sensed force through the linkage, F / N_l(q).", t0));
   return res;
