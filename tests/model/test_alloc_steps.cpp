@@ -7,39 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include "sanitizer.hpp"
+#include "malloc_counter.hpp"
 
-#include <atomic>
-#include <cstdlib>
 
-// Every heap allocation of the process goes through malloc (operator new, Eigen's
-// aligned_malloc, Simbody's containers): glibc lets an executable interpose it.
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-#if !DMBD_ASAN
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-}
-
-extern "C" {
-void* malloc(std::size_t n) {
-  ++g_allocations;
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t n, std::size_t m) {
-  ++g_allocations;
-  return __libc_calloc(n, m);
-}
-void* realloc(void* p, std::size_t n) {
-  ++g_allocations;
-  return __libc_realloc(p, n);
-}
-}
-#endif  // !DMBD_ASAN
+using dmbd::test::g_allocations;
 
 namespace dmbd::model {
 namespace {

@@ -5,42 +5,15 @@
 // count (as in tests/model/test_alloc_steps.cpp); skipped under AddressSanitizer.
 #include <gtest/gtest.h>
 
-#include "sanitizer.hpp"
+#include "malloc_counter.hpp"
 
-#include <atomic>
-#include <cstdlib>
 #include <vector>
 
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/sim/osc_controller.hpp"
 
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-#if !DMBD_ASAN
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-}
-
-extern "C" {
-void* malloc(std::size_t n) {
-  ++g_allocations;
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t n, std::size_t m) {
-  ++g_allocations;
-  return __libc_calloc(n, m);
-}
-void* realloc(void* p, std::size_t n) {
-  ++g_allocations;
-  return __libc_realloc(p, n);
-}
-}
-#endif  // !DMBD_ASAN
+using dmbd::test::g_allocations;
 
 namespace dmbd::sim {
 namespace {
@@ -59,6 +32,12 @@ TEST(NoAllocation, OscControllerStep) {
   std::vector<double> u(static_cast<size_t>(osc.num_inputs()), 0.0), y(static_cast<size_t>(osc.num_outputs()), 0.0);
   for (int k = 0; k < 10; ++k) u[static_cast<size_t>(2 * k + 1)] = 0.1 * (k + 1);  // joint rates
   osc.step(u.data(), y.data());  // warm-up
+  {  // the counter sees an allocation (the test could fail)
+    const long probe = g_allocations.load();
+    std::vector<double> heap(64, 1.0);
+    ASSERT_GT(g_allocations.load(), probe);
+    ASSERT_EQ(heap.size(), 64u);
+  }
   const long before = g_allocations.load();
   for (int tick = 0; tick < 200; ++tick) osc.step(u.data(), y.data());
   EXPECT_EQ(g_allocations.load() - before, 0);

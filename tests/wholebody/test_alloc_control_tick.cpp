@@ -6,11 +6,9 @@
 // skipped under AddressSanitizer (tests/support/sanitizer.hpp).
 #include <gtest/gtest.h>
 
-#include "sanitizer.hpp"
+#include "malloc_counter.hpp"
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <vector>
 
 #include "dmbd/wholebody/osc.hpp"
@@ -19,32 +17,7 @@
 #include "planar_point_task.hpp"
 #include "two_link_arm.hpp"
 
-namespace {
-std::atomic<long> g_allocations{0};
-}
-
-#if !DMBD_ASAN
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-}
-
-extern "C" {
-void* malloc(std::size_t n) {
-  ++g_allocations;
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t n, std::size_t m) {
-  ++g_allocations;
-  return __libc_calloc(n, m);
-}
-void* realloc(void* p, std::size_t n) {
-  ++g_allocations;
-  return __libc_realloc(p, n);
-}
-}
-#endif  // !DMBD_ASAN
+using dmbd::test::g_allocations;
 
 namespace dmbd::wholebody::testing {
 namespace {
