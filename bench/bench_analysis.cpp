@@ -11,19 +11,14 @@
 #include "dmbd/blocks/zpk.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/linearize.hpp"
+#include "../tests/support/chain_diagram.hpp"
 
 namespace {
 
 namespace b = dmbd::blocks;
 namespace d = dmbd::diagrams;
 
-std::string chain(int n, const std::string& block) {
-  std::string y = "name: chain\ninputs: {u: {}}\noutputs: {y: {}}\nblocks:\n";
-  for (int i = 0; i < n; ++i) y += "  b" + std::to_string(i) + ": " + block + "\n";
-  y += "connections:\n  - u -> b0\n";
-  for (int i = 1; i < n; ++i) y += "  - b" + std::to_string(i - 1) + " -> b" + std::to_string(i) + "\n";
-  return y + "  - b" + std::to_string(n - 1) + " -> y\n";
-}
+using dmbd::test::chain_diagram;
 
 const char* kLag = "{type: tf, expr: \"10/(s+10)\"}";
 const char* kGain = "{type: gain, k: 1.0001}";
@@ -39,25 +34,25 @@ void analyse(const std::string& yaml, bool with_step) {
 }
 
 void BM_AnalyseLagChain(benchmark::State& state) {
-  const std::string yaml = chain(static_cast<int>(state.range(0)), kLag);
+  const std::string yaml = chain_diagram(static_cast<int>(state.range(0)), kLag);
   for (auto _ : state) analyse(yaml, true);
 }
 BENCHMARK(BM_AnalyseLagChain)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
 
 void BM_AnalyseLagChainWithoutStep(benchmark::State& state) {
-  const std::string yaml = chain(static_cast<int>(state.range(0)), kLag);
+  const std::string yaml = chain_diagram(static_cast<int>(state.range(0)), kLag);
   for (auto _ : state) analyse(yaml, false);
 }
 BENCHMARK(BM_AnalyseLagChainWithoutStep)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
 
 void BM_AnalyseGainChain(benchmark::State& state) {
-  const std::string yaml = chain(static_cast<int>(state.range(0)), kGain);
+  const std::string yaml = chain_diagram(static_cast<int>(state.range(0)), kGain);
   for (auto _ : state) analyse(yaml, true);
 }
 BENCHMARK(BM_AnalyseGainChain)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
 
 void BM_LoadLagChain(benchmark::State& state) {
-  const std::string yaml = chain(static_cast<int>(state.range(0)), kLag);
+  const std::string yaml = chain_diagram(static_cast<int>(state.range(0)), kLag);
   for (auto _ : state) benchmark::DoNotOptimize(d::Diagram::parse(yaml, "chain.yaml"));
 }
 BENCHMARK(BM_LoadLagChain)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);

@@ -299,25 +299,33 @@ Margins margins(const TransferFunction& loop) {
     out.phase_crossovers.push_back({0.0, -20.0 * std::log10(-*dc)});
   if (loop.is_discrete()) add_phase_crossover(M_PI / loop.ts(), loop.evaluate(Complex(-1.0, 0.0)));
 
-  auto by_w = [](const Crossing& a, const Crossing& b) { return a.w_rad_s < b.w_rad_s; };
-  // A tangent crossing is a double root that rounding splits in two; both refine to the
-  // same frequency: keep one.
-  auto dedupe = [&](std::vector<Crossing>& cs) {
-    std::sort(cs.begin(), cs.end(), by_w);
-    cs.erase(std::unique(cs.begin(), cs.end(),
-                         [](const Crossing& a, const Crossing& b) {
-                           return std::abs(a.w_rad_s - b.w_rad_s) <= 1e-8 * std::max(1e-300, std::abs(b.w_rad_s));
-                         }),
-             cs.end());
-  };
+  settle_margins(out);
+  return out;
+}
+
+namespace {
+
+void dedupe(std::vector<Crossing>& cs) {
+  std::sort(cs.begin(), cs.end(), [](const Crossing& a, const Crossing& b) { return a.w_rad_s < b.w_rad_s; });
+  cs.erase(std::unique(cs.begin(), cs.end(),
+                       [](const Crossing& a, const Crossing& b) {
+                         return std::abs(a.w_rad_s - b.w_rad_s) <= 1e-8 * std::max(1e-300, std::abs(b.w_rad_s));
+                       }),
+           cs.end());
+}
+
+const Crossing* smallest(const std::vector<Crossing>& cs) {
+  const Crossing* best = nullptr;
+  for (const Crossing& c : cs)
+    if (!best || std::abs(c.margin) < std::abs(best->margin)) best = &c;
+  return best;
+}
+
+}  // namespace
+
+void settle_margins(Margins& out) {
   dedupe(out.gain_crossovers);
   dedupe(out.phase_crossovers);
-  auto smallest = [](const std::vector<Crossing>& cs) {
-    const Crossing* best = nullptr;
-    for (const Crossing& c : cs)
-      if (!best || std::abs(c.margin) < std::abs(best->margin)) best = &c;
-    return best;
-  };
   if (const Crossing* c = smallest(out.gain_crossovers)) {
     out.phase_margin_deg = c->margin;
     out.gain_crossover_rad_s = c->w_rad_s;
@@ -326,7 +334,6 @@ Margins margins(const TransferFunction& loop) {
     out.gain_margin_db = c->margin;
     out.phase_crossover_rad_s = c->w_rad_s;
   }
-  return out;
 }
 
 std::optional<double> bandwidth(const TransferFunction& g, double drop_db) {

@@ -228,22 +228,6 @@ std::vector<double> magnitude_crossings(const Zpk& g, double level) {
   return w;
 }
 
-void dedupe(std::vector<Crossing>& cs) {
-  std::sort(cs.begin(), cs.end(), [](const Crossing& a, const Crossing& b) { return a.w_rad_s < b.w_rad_s; });
-  cs.erase(std::unique(cs.begin(), cs.end(),
-                       [](const Crossing& a, const Crossing& b) {
-                         return std::abs(a.w_rad_s - b.w_rad_s) <= 1e-8 * std::max(1e-300, std::abs(b.w_rad_s));
-                       }),
-           cs.end());
-}
-
-const Crossing* smallest(const std::vector<Crossing>& cs) {
-  const Crossing* best = nullptr;
-  for (const Crossing& c : cs)
-    if (!best || std::abs(c.margin) < std::abs(best->margin)) best = &c;
-  return best;
-}
-
 }  // namespace
 
 Margins margins(const Zpk& loop) {
@@ -266,16 +250,7 @@ Margins margins(const Zpk& loop) {
     // (then L is 0 or infinite there and the phase is off by pi/2: no crossover).
     if (std::isfinite(l.real()) && std::cos(l.imag()) < -0.5) out.phase_crossovers.push_back({wn, -l.real() * kDbPerNeper});
   }
-  dedupe(out.gain_crossovers);
-  dedupe(out.phase_crossovers);
-  if (const Crossing* c = smallest(out.gain_crossovers)) {
-    out.phase_margin_deg = c->margin;
-    out.gain_crossover_rad_s = c->w_rad_s;
-  }
-  if (const Crossing* c = smallest(out.phase_crossovers)) {
-    out.gain_margin_db = c->margin;
-    out.phase_crossover_rad_s = c->w_rad_s;
-  }
+  settle_margins(out);
   return out;
 }
 

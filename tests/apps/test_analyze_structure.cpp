@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cli_support.hpp"
+#include "chain_diagram.hpp"
 
 namespace {
 
@@ -152,12 +153,7 @@ TEST_F(AnalyzeStructure, ChainOfThousandFirstOrderFilters) {
   // w > 0), bandwidth at w = 10 sqrt(10^(0.3/1000) - 1) (1e-9 relative); Bode at 1 Hz
   // is -10000 log10(1 + (2 pi/10)^2) dB with phase -1000 atan(2 pi/10) (1e-9 relative);
   // the step rises around 1000 tau = 100 s.
-  std::string y = "name: chain\ninputs: {u: {}}\noutputs: {y: {}}\nblocks:\n";
-  for (int i = 0; i < 1000; ++i) y += "  b" + std::to_string(i) + ": {type: tf, expr: \"10/(s+10)\"}\n";
-  y += "connections:\n  - u -> b0\n";
-  for (int i = 1; i < 1000; ++i) y += "  - b" + std::to_string(i - 1) + " -> b" + std::to_string(i) + "\n";
-  y += "  - b999 -> y\n";
-  const fs::path d = write("chain.yaml", y);
+  const fs::path d = write("chain.yaml", dmbd::test::chain_diagram(1000, "{type: tf, expr: \"10/(s+10)\"}"));
   const json j = analyze({d.string(), "--from", "u", "--to", "y", "--freq", "1", "--step", "200:401"});
   ASSERT_EQ(j["poles"].size(), 1000u);
   for (const auto& p : j["poles"]) EXPECT_EQ(p, json::array({-10.0, 0.0}));

@@ -12,6 +12,7 @@
 #include "dmbd/blocks/siso.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/linearize.hpp"
+#include "chain_diagram.hpp"
 
 namespace dmbd::diagrams {
 namespace {
@@ -22,14 +23,7 @@ using blocks::Stability;
 
 std::shared_ptr<const Diagram> parse(const std::string& yaml) { return Diagram::parse(yaml, "inline.yaml"); }
 
-// n blocks `block` in a chain from u to y.
-std::string chain(int n, const std::string& block) {
-  std::string y = "name: chain\ninputs: {u: {}}\noutputs: {y: {}}\nblocks:\n";
-  for (int i = 0; i < n; ++i) y += "  b" + std::to_string(i) + ": " + block + "\n";
-  y += "connections:\n  - u -> b0\n";
-  for (int i = 1; i < n; ++i) y += "  - b" + std::to_string(i - 1) + " -> b" + std::to_string(i) + "\n";
-  return y + "  - b" + std::to_string(n - 1) + " -> y\n";
-}
+using dmbd::test::chain_diagram;
 
 // PD on a double integrator built from integrator blocks (issue 13, item 1).
 const char* kPdOnMass = R"yaml(
@@ -107,7 +101,7 @@ TEST(LinearizeSparse, ChainOfThousandFirstOrderFilters) {
   // 1000 blocks 10/(s + 10): poles exactly -10 (x 1000), no zeros, DC gain 1 (each
   // block's to rounding: 1e-12), 1000 series factors; the sparse model has 1000 states
   // and 1999 non-zeros in A.
-  const auto d = parse(chain(1000, "{type: tf, expr: \"10/(s+10)\"}"));
+  const auto d = parse(chain_diagram(1000, "{type: tf, expr: \"10/(s+10)\"}"));
   const blocks::SparseStateSpace ss = linearize_sparse(*d, "u", "y");
   EXPECT_EQ(ss.num_states(), 1000);
   EXPECT_EQ(ss.a().nonZeros(), 1999);
@@ -123,7 +117,7 @@ TEST(LinearizeSparse, ChainOfThousandFirstOrderFilters) {
 TEST(LinearizeSparse, ChainOfTenThousandGainsIsOneNumber) {
   // 10000 gains of 1.0001: a static transfer 1.0001^10000 (1e-11 relative: 10^4
   // roundings), no states.
-  const auto d = parse(chain(10000, "{type: gain, k: 1.0001}"));
+  const auto d = parse(chain_diagram(10000, "{type: gain, k: 1.0001}"));
   const blocks::SparseStateSpace ss = linearize_sparse(*d, "u", "y");
   EXPECT_EQ(ss.num_states(), 0);
   const Siso s = Siso::from_state_space(ss);

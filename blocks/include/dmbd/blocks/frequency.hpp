@@ -57,6 +57,12 @@ struct Margins {
 // negative (never at a pole at s = 0 or z = 1).
 Margins margins(const TransferFunction& loop);
 
+// Finishes a Margins whose crossover lists are filled: sorts each by frequency, keeps
+// one of crossings within 1e-8 relative of each other (a tangent crossing is a double
+// root that rounding splits in two), and takes the margins of smallest magnitude.
+// Shared by margins() of a TransferFunction and of a Zpk.
+void settle_margins(Margins& m);
+
 // First frequency at which |G| falls drop_db below |G(0)| (default -3 dB, MATLAB's
 // and python-control's convention). Empty when G(0) is 0 or infinite, or |G| never
 // drops that far.
