@@ -28,10 +28,16 @@ void OperationalSpaceControl::compute(const ModelData& data, const Task& task, c
   tau.noalias() = task.jacobian().transpose() * F_;
   tau += data.bg;
   if (posture == nullptr || F0_.size() == 0) return;
-  posture_inv_.compute(A_factor_, posture->jacobian());
   a0_ = posture->command() - posture->jacobian_dot_v();
-  F0_.noalias() = posture_inv_.Lambda() * a0_;
-  tau0_.noalias() = posture->jacobian().transpose() * F0_;
+  if (posture->jacobian().isIdentity(0.0)) {
+    // A posture of every coordinate in v's order: J_p = I, so Λ_p = A exactly and
+    // τ₀ = A q̈_cmd (no inverse of A⁻¹ to form).
+    tau0_.noalias() = data.A * a0_;
+  } else {
+    posture_inv_.compute(A_factor_, posture->jacobian());
+    F0_.noalias() = posture_inv_.Lambda() * a0_;
+    tau0_.noalias() = posture->jacobian().transpose() * F0_;
+  }
   tau.noalias() += inv_.N().transpose() * tau0_;
 }
 
