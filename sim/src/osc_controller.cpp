@@ -54,7 +54,10 @@ struct OscController::Impl {
   Impl(const model::RobotDescription& robot, const model::DynamicsOptions& options, const OscSetup& s)
       : setup(s), model(robot, options) {}
   int nj() const { return static_cast<int>(joints.size()); }
+  void make_tasks();
+  void bind_actuators(const std::vector<model::ActuatorParams>& actuators);
   void name_ports();
+  void start_at(const std::vector<std::pair<std::string, double>>& q0, long long max_ticks);
   void add_load_damping(const Eigen::Vector3d& v_d);
   void write_outputs(const double* u, double* y, const Eigen::Vector3d& p_d) const;
 };
@@ -92,50 +95,61 @@ void OscController::Impl::name_ports() {
   for (const char* axis : {"x", "y", "z"}) out(std::string("osc.") + axis, "m");
 }
 
+// The point task at setup's link and the posture of every joint, with their gains.
+void OscController::Impl::make_tasks() {
+  const wholebody::Layout& layout = model.layout();
+  try {
+    task = std::make_unique<wholebody::PointTask>(model.add_frame({setup.link, setup.point_L}), layout.nv);
+  } catch (InputError& e) {
+    e.prepend(setup.where + ": osc.link: ");
+    throw;
+  }
+  task->set_gains(setup.kp, setup.kd);
+  std::vector<int> all(layout.joints.size());
+  for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  posture = std::make_unique<wholebody::PostureTask>(layout, all);
+  posture->set_gains(setup.posture_kp, setup.posture_kd);
+  osc = std::make_unique<wholebody::OperationalSpaceControl>(layout, 3, static_cast<int>(all.size()));
+}
+
+// Each joint's actuator linkage and output-side damping (none for a joint without one).
+void OscController::Impl::bind_actuators(const std::vector<model::ActuatorParams>& actuators) {
+  for (const auto& j : model.layout().joints) {
+    joints.push_back(j.name);
+    std::optional<model::LinkageGeometry> l;
+    double b_l = 0.0;
+    for (const auto& p : actuators)
+      if (p.joint == j.name) l = p.linkage, b_l = p.B_l_Ns_per_m;
+    linkage.push_back(l);
+    load_damping.push_back(setup.compensate_load_damping ? b_l : 0.0);
+  }
+}
+
+// Storage for a tick, the posture target and the path's centre p₀ at the angles q0.
+void OscController::Impl::start_at(const std::vector<std::pair<std::string, double>>& q0, long long max_ticks) {
+  const wholebody::Layout& layout = model.layout();
+  data = model.make_data();
+  q = Eigen::VectorXd::Zero(layout.nq);
+  for (const auto& [name, angle] : q0)
+    if (const int j = layout.joint_index(name); j >= 0) q[layout.joints[static_cast<size_t>(j)].q_index] = angle;
+  v = tau = qd_ref = Eigen::VectorXd::Zero(layout.nv);
+  D = Eigen::MatrixXd::Zero(layout.nv, layout.nv);
+  damping_inv = std::make_unique<wholebody::DynamicallyConsistentInverse>(3, layout.nv);
+  posture->set_reference(q, v, v);
+  model.update(q, v, data);
+  p0 = data.frames[0].X_WF.translation();
+  tick_us.reserve(static_cast<size_t>(std::max(max_ticks, 1LL)));
+}
+
 OscController::OscController(const model::RobotDescription& robot, const Eigen::Isometry3d& X_WB, double gravity_m_s2,
                              const std::vector<model::ActuatorParams>& actuators,
                              const std::vector<std::pair<std::string, double>>& q0, const OscSetup& setup,
                              long long max_ticks)
     : impl_(std::make_unique<Impl>(robot, fixed_base(X_WB, gravity_m_s2), setup)) {
-  Impl& m = *impl_;
-  const wholebody::Layout& layout = m.model.layout();
-  try {
-    const int frame = m.model.add_frame({setup.link, setup.point_L});
-    m.task = std::make_unique<wholebody::PointTask>(frame, layout.nv);
-  } catch (InputError& e) {
-    e.prepend(setup.where + ": osc.link: ");
-    throw;
-  }
-  m.task->set_gains(setup.kp, setup.kd);
-  std::vector<int> all(layout.joints.size());
-  for (size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
-  m.posture = std::make_unique<wholebody::PostureTask>(layout, all);
-  m.posture->set_gains(setup.posture_kp, setup.posture_kd);
-  m.osc = std::make_unique<wholebody::OperationalSpaceControl>(layout, 3, static_cast<int>(all.size()));
-  for (const auto& j : layout.joints) {
-    m.joints.push_back(j.name);
-    std::optional<model::LinkageGeometry> l;
-    double b_l = 0.0;
-    for (const auto& p : actuators)
-      if (p.joint == j.name) l = p.linkage, b_l = p.B_l_Ns_per_m;
-    m.linkage.push_back(l);
-    m.load_damping.push_back(setup.compensate_load_damping ? b_l : 0.0);
-  }
-  m.name_ports();
-  m.data = m.model.make_data();
-  m.q = Eigen::VectorXd::Zero(layout.nq);
-  for (const auto& [name, angle] : q0)
-    if (const int j = layout.joint_index(name); j >= 0) m.q[layout.joints[static_cast<size_t>(j)].q_index] = angle;
-  m.v = Eigen::VectorXd::Zero(layout.nv);
-  m.tau = Eigen::VectorXd::Zero(layout.nv);
-  m.qd_ref = Eigen::VectorXd::Zero(layout.nv);
-  m.D = Eigen::MatrixXd::Zero(layout.nv, layout.nv);
-  m.damping_inv = std::make_unique<wholebody::DynamicallyConsistentInverse>(3, layout.nv);
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(layout.nv);
-  m.posture->set_reference(m.q, zero, zero);
-  m.model.update(m.q, m.v, m.data);
-  m.p0 = m.data.frames[0].X_WF.translation();
-  m.tick_us.reserve(static_cast<size_t>(std::max(max_ticks, 1LL)));
+  impl_->make_tasks();
+  impl_->bind_actuators(actuators);
+  impl_->name_ports();
+  impl_->start_at(q0, max_ticks);
 }
 
 OscController::~OscController() = default;
