@@ -9,10 +9,12 @@
 #include "malloc_counter.hpp"
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "dmbd/wholebody/osc.hpp"
 #include "dmbd/wholebody/projection.hpp"
+#include "dmbd/wholebody/qp.hpp"
 #include "dmbd/wholebody/task.hpp"
 #include "planar_point_task.hpp"
 #include "two_link_arm.hpp"
@@ -85,6 +87,32 @@ TEST(NoAllocation, DynamicallyConsistentInverseCompute) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 100 computes";
   EXPECT_EQ(dci.rank(), 2);
+}
+
+// A QP of the whole-body controller's size, its active set changing between solves.
+TEST(NoAllocation, QpSolve) {
+  DMBD_SKIP_UNDER_ASAN();
+  const int n = 28, m_eq = 12, m_in = 32;
+  std::mt19937 rng(8);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Identity(n, n), C_eq(m_eq, n), C_in(m_in, n);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < m_eq; ++i) C_eq(i, j) = normal(rng);
+    for (int i = 0; i < m_in; ++i) C_in(i, j) = normal(rng);
+  }
+  Eigen::VectorXd a = Eigen::VectorXd::LinSpaced(n, -1.0, 1.0), b_eq = Eigen::VectorXd::Zero(m_eq);
+  Eigen::VectorXd b_in = Eigen::VectorXd::Constant(m_in, -0.5);
+  QpSolver qp(n, m_eq, m_in);
+  ASSERT_EQ(qp.solve(G, a, C_eq, b_eq, C_in, b_in), QpStatus::Optimal);  // warm-up
+  const long before = g_allocations.load();
+  int active = 0;
+  for (int k = 0; k < 50; ++k) {
+    a[k % n] += 3.0;  // moves the unconstrained minimum: other constraints become active
+    ASSERT_EQ(qp.solve(G, a, C_eq, b_eq, C_in, b_in), QpStatus::Optimal);
+    active += qp.active_inequalities();
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 50 solves";
+  EXPECT_GT(active, 0);
 }
 
 }  // namespace

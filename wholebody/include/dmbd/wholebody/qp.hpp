@@ -1,0 +1,73 @@
+#pragma once
+// A dense convex quadratic program, solved by the Goldfarb–Idnani dual active-set method
+// (D. Goldfarb, A. Idnani, "A numerically stable dual method for solving strictly
+// convex quadratic programs", Math. Programming 27, 1983):
+//
+//   minimise ½ xᵀ G x + aᵀ x   subject to   C_eq x = b_eq,   C_in x ≥ b_in,
+//
+// G symmetric positive definite (n x n), C_eq (m_eq x n), C_in (m_in x n).
+// Written by hand: Debian packages no small dense QP solver that runs without
+// allocating per solve (eiquadprog, qpOASES, OSQP and quadprog are not in Debian 12;
+// the whole-body controller solves one such problem every millisecond, issue 15).
+//
+// The method starts from the unconstrained minimum, adds the equalities, then adds the
+// most violated inequality at a time, dropping active ones whose multipliers would turn
+// negative; the factorisation J = L⁻ᵀ Q and the triangular R are kept up to date by
+// Givens rotations. Storage is sized by the constructor; solve() allocates nothing.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+namespace dmbd::wholebody {
+
+enum class QpStatus {
+  Optimal,
+  Infeasible,          // the constraints cannot all hold (or the equalities are dependent)
+  NotPositiveDefinite, // G is not symmetric positive definite
+  IterationLimit,      // more active-set changes than allowed (a safeguard; not expected)
+};
+
+const char* to_string(QpStatus s);
+
+class QpSolver {
+ public:
+  QpSolver(int n, int m_eq, int m_in);
+
+  // Solves the problem; on Optimal, x() is the minimiser and the multipliers satisfy
+  // G x + a = C_eqᵀ λ + C_inᵀ μ, μ ≥ 0, μ_i (C_in x − b_in)_i = 0.
+  QpStatus solve(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a,
+                 const Eigen::Ref<const Eigen::MatrixXd>& C_eq, const Eigen::Ref<const Eigen::VectorXd>& b_eq,
+                 const Eigen::Ref<const Eigen::MatrixXd>& C_in, const Eigen::Ref<const Eigen::VectorXd>& b_in);
+
+  const Eigen::VectorXd& x() const { return x_; }
+  const Eigen::VectorXd& lambda_eq() const { return lambda_eq_; }  // m_eq
+  const Eigen::VectorXd& mu_in() const { return mu_in_; }          // m_in, 0 for inactive
+  double objective() const { return f_; }
+  int iterations() const { return iterations_; }
+  int active_inequalities() const;
+
+ private:
+  bool start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
+  bool add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq);
+  QpStatus add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_in);
+  int most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack) const;
+  // Working-set constraint k: k < m_eq the equality k, else the inequality k − m_eq.
+  Eigen::Ref<const Eigen::VectorXd> normal(int k) const;
+  void step_directions(const Eigen::Ref<const Eigen::VectorXd>& n);  // d, z, r for normal n
+  double partial_step(int& position) const;  // the dual step limit over active inequalities
+  bool add_to_working_set(int k);            // with d_ of its normal; false if dependent
+  void drop_from_working_set(int position);
+  void finish(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
+
+  int n_, m_eq_, m_in_;
+  Eigen::MatrixXd CeqT_, CinT_;       // constraint normals as columns
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::MatrixXd J_, R_;
+  Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
+  Eigen::VectorXi working_;           // constraint index (as in normal()) per position
+  Eigen::Matrix<bool, Eigen::Dynamic, 1> is_active_;  // per inequality
+  double f_ = 0;
+  int q_ = 0;                         // working-set size
+  int iterations_ = 0;
+};
+
+}  // namespace dmbd::wholebody

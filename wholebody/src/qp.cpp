@@ -1,0 +1,236 @@
+// The Goldfarb–Idnani dual active-set QP solver (qp.hpp).
+//
+// Invariants (Goldfarb & Idnani 1983, section 3): with G = L Lᵀ and N the normals of the
+// q constraints in the working set, J = L⁻ᵀ Q is kept so that Jᵀ N = [R; 0] with R upper
+// triangular (q x q). For a constraint normal n, d = Jᵀ n splits into d₁ (first q) and
+// d₂; the primal step direction is z = J₂ d₂ (z = H n, H the inverse Hessian reduced to
+// the working set's null space) and the dual one r = R⁻¹ d₁ (the change of the working
+// set's multipliers per unit of the new one). zᵀ n = ‖d₂‖² ≥ 0 is the curvature along z.
+#include "dmbd/wholebody/qp.hpp"
+
+#include <Eigen/Jacobi>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace dmbd::wholebody {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// zᵀn ≤ kDependent ‖d‖²: the normal lies (to rounding) in the span of the working set's.
+constexpr double kDependent = 1e-13;
+// A constraint counts as violated below −kFeasible · its scale (|b|, ‖c‖ ‖x‖, 1).
+constexpr double kFeasible = 1e-10;
+
+}  // namespace
+
+const char* to_string(QpStatus s) {
+  switch (s) {
+    case QpStatus::Optimal: return "optimal";
+    case QpStatus::Infeasible: return "infeasible";
+    case QpStatus::NotPositiveDefinite: return "Hessian not positive definite";
+    case QpStatus::IterationLimit: return "iteration limit";
+  }
+  return "?";
+}
+
+QpSolver::QpSolver(int n, int m_eq, int m_in)
+    : n_(n),
+      m_eq_(m_eq),
+      m_in_(m_in),
+      CeqT_(n, m_eq),
+      CinT_(n, m_in),
+      llt_(n),
+      J_(n, n),
+      R_(n, n),
+      x_(n),
+      d_(n),
+      z_(n),
+      r_(n),
+      u_(n),
+      lambda_eq_(m_eq),
+      mu_in_(m_in),
+      Gx_(n),
+      working_(n),
+      is_active_(m_in) {}
+
+int QpSolver::active_inequalities() const { return q_ - std::min(q_, m_eq_); }
+
+Eigen::Ref<const Eigen::VectorXd> QpSolver::normal(int k) const {
+  return k < m_eq_ ? CeqT_.col(k) : CinT_.col(k - m_eq_);
+}
+
+QpStatus QpSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a,
+                         const Eigen::Ref<const Eigen::MatrixXd>& C_eq, const Eigen::Ref<const Eigen::VectorXd>& b_eq,
+                         const Eigen::Ref<const Eigen::MatrixXd>& C_in, const Eigen::Ref<const Eigen::VectorXd>& b_in) {
+  assert(G.rows() == n_ && G.cols() == n_ && a.size() == n_);
+  assert(C_eq.rows() == m_eq_ && C_eq.cols() == n_ && b_eq.size() == m_eq_);
+  assert(C_in.rows() == m_in_ && C_in.cols() == n_ && b_in.size() == m_in_);
+  CeqT_ = C_eq.transpose();
+  CinT_ = C_in.transpose();
+  iterations_ = 0;
+  if (!start(G, a)) return QpStatus::NotPositiveDefinite;
+  if (!add_equalities(b_eq)) return QpStatus::Infeasible;
+  const QpStatus status = add_inequalities(b_in);
+  finish(G, a);
+  return status;
+}
+
+// The unconstrained minimum x = −G⁻¹ a, J = L⁻ᵀ, an empty working set.
+bool QpSolver::start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a) {
+  llt_.compute(G);
+  if (llt_.info() != Eigen::Success) return false;
+  J_.setIdentity();
+  llt_.matrixU().solveInPlace(J_);  // Lᵀ J = I
+  x_ = -a;
+  llt_.solveInPlace(x_);
+  R_.setZero();
+  u_.setZero();
+  is_active_.setConstant(false);
+  q_ = 0;
+  return true;
+}
+
+// d = Jᵀ n, z = J₂ d₂, r = R⁻¹ d₁.
+void QpSolver::step_directions(const Eigen::Ref<const Eigen::VectorXd>& n) {
+  d_.noalias() = J_.transpose() * n;
+  z_.noalias() = J_.rightCols(n_ - q_) * d_.tail(n_ - q_);
+  r_.head(q_) = d_.head(q_);
+  R_.topLeftCorner(q_, q_).triangularView<Eigen::Upper>().solveInPlace(r_.head(q_));
+}
+
+// Each equality by a full step of either sign onto it: x += t z with t = (b − nᵀx)/zᵀn.
+bool QpSolver::add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq) {
+  for (int i = 0; i < m_eq_; ++i) {
+    const Eigen::Ref<const Eigen::VectorXd> n = normal(i);
+    step_directions(n);
+    const double curvature = z_.dot(n);
+    if (!(curvature > kDependent * d_.squaredNorm())) return false;  // dependent on earlier ones
+    const double t = (b_eq[i] - n.dot(x_)) / curvature;
+    x_ += t * z_;
+    u_.head(q_) -= t * r_.head(q_);
+    const double u_new = t;
+    if (!add_to_working_set(i)) return false;
+    u_[q_ - 1] = u_new;
+  }
+  return true;
+}
+
+// The inequality with the most negative slack nᵀx − b among those not in the working
+// set, or −1 when none is violated beyond its tolerance.
+int QpSolver::most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack) const {
+  int p = -1;
+  slack = 0;
+  const double x_norm = x_.norm();
+  for (int i = 0; i < m_in_; ++i) {
+    if (is_active_[i]) continue;
+    const double s = CinT_.col(i).dot(x_) - b_in[i];
+    const double scale = std::max({1.0, std::abs(b_in[i]), CinT_.col(i).norm() * x_norm});
+    if (s < -kFeasible * scale && (p < 0 || s < slack)) {
+      p = i;
+      slack = s;
+    }
+  }
+  return p;
+}
+
+// The largest dual step before an active inequality's multiplier reaches zero:
+// min u_k / r_k over inequalities with r_k > 0 (its position in `position`), or ∞.
+double QpSolver::partial_step(int& position) const {
+  double t = kInf;
+  position = -1;
+  for (int k = 0; k < q_; ++k)
+    if (working_[k] >= m_eq_ && r_[k] > 0.0 && u_[k] / r_[k] < t) {
+      t = u_[k] / r_[k];
+      position = k;
+    }
+  return t;
+}
+
+// Step 1 and 2 of the method: take the most violated inequality p and move x (primal
+// step) and the multipliers (dual step) until p holds, dropping an active inequality
+// whenever its multiplier would turn negative first.
+QpStatus QpSolver::add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_in) {
+  const int max_iterations = 10 * (n_ + m_eq_ + m_in_) + 10;
+  double slack = 0;
+  for (int p = most_violated(b_in, slack); p >= 0; p = most_violated(b_in, slack)) {
+    const Eigen::Ref<const Eigen::VectorXd> n = normal(m_eq_ + p);
+    double u_p = 0.0;  // the new constraint's multiplier as it grows
+    for (;;) {
+      if (++iterations_ > max_iterations) return QpStatus::IterationLimit;
+      step_directions(n);
+      const double curvature = z_.dot(n);
+      const bool primal = curvature > kDependent * d_.squaredNorm();
+      const double t2 = primal ? -slack / curvature : kInf;  // full step: p holds with equality
+      int drop = -1;
+      const double t1 = partial_step(drop);
+      const double t = std::min(t1, t2);
+      if (t == kInf) return QpStatus::Infeasible;  // nothing can make p hold
+      if (primal) x_ += t * z_;
+      u_.head(q_) -= t * r_.head(q_);
+      u_p += t;
+      if (t == t2) {
+        if (!add_to_working_set(m_eq_ + p)) return QpStatus::Infeasible;
+        u_[q_ - 1] = u_p;
+        is_active_[p] = true;
+        break;
+      }
+      is_active_[working_[drop] - m_eq_] = false;
+      drop_from_working_set(drop);
+      slack = n.dot(x_) - b_in[p];
+    }
+  }
+  return QpStatus::Optimal;
+}
+
+// Rotates d₂ into its first entry (J's columns rotated alike), so that Jᵀ n = [R(:, q); 0].
+bool QpSolver::add_to_working_set(int k) {
+  for (int j = n_ - 1; j > q_; --j) {
+    Eigen::JacobiRotation<double> g;
+    g.makeGivens(d_[j - 1], d_[j], &d_[j - 1]);
+    d_[j] = 0.0;
+    J_.applyOnTheRight(j - 1, j, g);
+  }
+  if (!(d_[q_] * d_[q_] > kDependent * d_.squaredNorm())) return false;
+  R_.col(q_).head(q_ + 1) = d_.head(q_ + 1);
+  working_[q_] = k;
+  ++q_;
+  return true;
+}
+
+// Removes position l: R loses column l, and the Hessenberg part left behind is made
+// triangular again by rotations of R's rows (and J's columns) l .. q−1.
+void QpSolver::drop_from_working_set(int l) {
+  for (int k = l; k + 1 < q_; ++k) {
+    R_.col(k) = R_.col(k + 1);
+    working_[k] = working_[k + 1];
+    u_[k] = u_[k + 1];
+  }
+  R_.col(q_ - 1).setZero();
+  u_[q_ - 1] = 0.0;
+  --q_;
+  for (int j = l; j < q_; ++j) {
+    Eigen::JacobiRotation<double> g;
+    g.makeGivens(R_(j, j), R_(j + 1, j), &R_(j, j));
+    R_(j + 1, j) = 0.0;
+    R_.rightCols(n_ - j - 1).applyOnTheLeft(j, j + 1, g.adjoint());
+    J_.applyOnTheRight(j, j + 1, g);
+  }
+}
+
+// Multipliers by constraint and the objective at x.
+void QpSolver::finish(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a) {
+  lambda_eq_.setZero();
+  mu_in_.setZero();
+  for (int k = 0; k < q_; ++k) {
+    if (working_[k] < m_eq_) lambda_eq_[working_[k]] = u_[k];
+    else mu_in_[working_[k] - m_eq_] = u_[k];
+  }
+  Gx_.noalias() = G * x_;
+  f_ = 0.5 * x_.dot(Gx_) + a.dot(x_);
+}
+
+}  // namespace dmbd::wholebody
