@@ -1,0 +1,75 @@
+// Prioritised inverse kinematics by null-space projection (prioritized_ik.hpp).
+#include "dmbd/wholebody/prioritized_ik.hpp"
+
+#include <cassert>
+
+namespace dmbd::wholebody {
+
+PrioritizedIk::PrioritizedIk(int nv, int contact_dim, const std::vector<int>& task_dims, double sv_threshold)
+    : nv_(nv),
+      identity_(Eigen::MatrixXd::Identity(nv, nv)),
+      N_(nv, nv),
+      N_next_(nv, nv),
+      dq_(nv),
+      qd_(nv),
+      qdd_(nv) {
+  // J⁺ = Jᵀ(J Jᵀ)⁺ is the dynamically consistent inverse with A = I; its eigenvalue
+  // threshold is the square of the singular-value one.
+  const double eig_threshold = sv_threshold * sv_threshold;
+  contact_pinv_ = std::make_unique<DynamicallyConsistentInverse>(contact_dim, nv, eig_threshold);
+  for (int m : task_dims) {
+    pinv_.push_back(std::make_unique<DynamicallyConsistentInverse>(m, nv, eig_threshold));
+    J_pre_.emplace_back(m, nv);
+    residual_.emplace_back(m);
+  }
+}
+
+void PrioritizedIk::solve(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c,
+                          const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v, const Task* const* tasks) {
+  assert(data.v.size() == nv_);
+  start(J_c, Jc_dot_v);
+  for (size_t i = 0; i < pinv_.size(); ++i) add_task(data, *tasks[i], static_cast<int>(i));
+}
+
+// The contacts: N₀ = I − J_c⁺ J_c, and the accelerations that keep the contacts still,
+// q̈ = J_c⁺ (−J̇_c v) (zero without contacts).
+void PrioritizedIk::start(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v) {
+  assert(J_c.cols() == nv_ || J_c.rows() == 0);
+  dq_.setZero();
+  qd_.setZero();
+  if (J_c.rows() == 0) {
+    N_.setIdentity();
+    qdd_.setZero();
+    return;
+  }
+  contact_pinv_->compute(identity_, J_c);
+  N_ = contact_pinv_->N();
+  qdd_.noalias() = -contact_pinv_->Jbar() * Jc_dot_v;
+}
+
+// One task in the null space of those above: the three updates of the header, then
+// N ← N (I − J_pre⁺ J_pre).
+void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
+  const auto k = static_cast<size_t>(i);
+  const Eigen::MatrixXd& J = task.jacobian();
+  assert(J.rows() == J_pre_[k].rows());
+  Eigen::MatrixXd& J_pre = J_pre_[k];
+  Eigen::VectorXd& res = residual_[k];
+  J_pre.noalias() = J * N_;
+  pinv_[k]->compute(identity_, J_pre);
+  res = task.error();
+  res.noalias() -= J * dq_;
+  dq_.noalias() += pinv_[k]->Jbar() * res;
+  // ẋ_d = ė + J v (the task's reference rate).
+  res = task.error_rate();
+  res.noalias() += J * data.v;
+  res.noalias() -= J * qd_;
+  qd_.noalias() += pinv_[k]->Jbar() * res;
+  res = task.command() - task.jacobian_dot_v();
+  res.noalias() -= J * qdd_;
+  qdd_.noalias() += pinv_[k]->Jbar() * res;
+  N_next_.noalias() = N_ * pinv_[k]->N();
+  N_.swap(N_next_);
+}
+
+}  // namespace dmbd::wholebody
