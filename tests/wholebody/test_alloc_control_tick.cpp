@@ -13,9 +13,12 @@
 #include <vector>
 
 #include "dmbd/wholebody/osc.hpp"
+#include "dmbd/wholebody/phase_machine.hpp"
 #include "dmbd/wholebody/projection.hpp"
 #include "dmbd/wholebody/qp.hpp"
+#include "dmbd/wholebody/swing.hpp"
 #include "dmbd/wholebody/task.hpp"
+#include "dmbd/wholebody/tvr.hpp"
 #include "planar_point_task.hpp"
 #include "two_link_arm.hpp"
 
@@ -113,6 +116,55 @@ TEST(NoAllocation, QpSolve) {
   }
   EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 50 solves";
   EXPECT_GT(active, 0);
+}
+
+// The contact-phase state machine over 10,000 ticks at 1 kHz: the start-up and ~16 steps,
+// every other swing ended early by its ankle's velocity.
+TEST(NoAllocation, PhaseMachineUpdate) {
+  DMBD_SKIP_UNDER_ASAN();
+  PhaseMachine machine;
+  machine.update(0.001, 0.0, 0.0);  // warm-up: the first tick
+  int early = 0, nominal = 0;
+  const long before = g_allocations.load();
+  for (int k = 0; k < 10000; ++k) {
+    const PhaseInfo& now = machine.info();
+    const bool drop = now.phase == Phase::Swing && now.step % 2 == 0 && now.time_in_phase_s > 0.2;
+    const double swing_ankle = drop ? -3.0 : 0.0;
+    const PhaseInfo& next = machine.update(0.001, now.swing_side == Side::Left ? swing_ankle : 0.0,
+                                           now.swing_side == Side::Right ? swing_ankle : 0.0);
+    if (next.events.touch_down) ++(next.events.touch_down_early ? early : nominal);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 10,000 phase-machine ticks";
+  EXPECT_GE(early, 7);
+  EXPECT_GE(nominal, 7);
+}
+
+// The stepping pieces per tick: the swing trajectory evaluated (with a start and a
+// mid-swing replan among the ticks) and a TVR plan, 100 times.
+TEST(NoAllocation, SwingTrajectoryAndTvrPlan) {
+  DMBD_SKIP_UNDER_ASAN();
+  const TvrPlanner planner;
+  SwingTrajectory swing;
+  TvrInput in;
+  in.stance_foot_m = {0.0, -0.14};
+  in.com_velocity_m_s = {0.05, 0.3};
+  in.time_to_switch_s = 0.33;
+  swing.start(Eigen::Vector3d(0.0, 0.14, 0.0), Eigen::Vector3d(0.0, 0.3, 0.0), 0.33);
+  double sink = swing.at(0.1).position_m.sum() + planner.plan(in).foothold_m.sum();  // warm-up
+  const long before = g_allocations.load();
+  for (int k = 0; k < 100; ++k) {
+    const double t = 0.33 * (k % 50) / 50.0;
+    if (k % 50 == 0) swing.start(Eigen::Vector3d(0.0, 0.14, 0.0), Eigen::Vector3d(0.0, 0.3, 0.0), 0.33);
+    in.com_m = {0.001 * k, -0.05 + 0.001 * k};
+    in.time_to_switch_s = 0.33 - t;
+    const TvrPlan plan = planner.plan(in);
+    if (k % 50 == 25) swing.replan(t, Eigen::Vector3d(plan.foothold_m.x(), plan.foothold_m.y(), 0.0));
+    const SwingSample s = swing.at(t);
+    sink += s.position_m.sum() + s.velocity_m_s.sum() + s.acceleration_m_s2.sum() + plan.foothold_m.sum();
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 100 ticks of swing and TVR";
+  EXPECT_EQ(swing.replans(), 1);
+  EXPECT_TRUE(std::isfinite(sink));
 }
 
 }  // namespace
