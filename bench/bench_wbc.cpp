@@ -1,0 +1,83 @@
+// The balancing controller's per-tick pieces on DRACO's floating-base model (issue 15:
+// wbc_tick_us ≤ 200 µs): the model's terms with three frames, the prioritised IK of the
+// double-support phase from the two feet's contact null space (hip yaws → torso
+// orientation → torso position), and the whole-body QP (28 variables, 12 equalities,
+// 32 inequalities). Anchor in the same run: the model's terms alone.
+#include <benchmark/benchmark.h>
+
+#include "dmbd/model/robot_description.hpp"
+#include "dmbd/sim/dynamics_model.hpp"
+#include "dmbd/wholebody/prioritized_ik.hpp"
+#include "dmbd/wholebody/task.hpp"
+#include "dmbd/wholebody/wbc_qp.hpp"
+
+namespace {
+
+using namespace dmbd;
+
+struct DoubleSupport {
+  model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
+  sim::DynamicsModel model{robot, model::DynamicsOptions{}};
+  int left = model.add_frame({"l_foot", Eigen::Vector3d(0.015, 0, -0.044)});
+  int right = model.add_frame({"r_foot", Eigen::Vector3d(0.015, 0, -0.044)});
+  int torso = model.add_frame({"torso", Eigen::Vector3d::Zero()});
+  wholebody::ModelData data = model.make_data();
+  wholebody::PostureTask yaws{model.layout(), {model.layout().joint_index("l_hip_yaw"), model.layout().joint_index("r_hip_yaw")}};
+  wholebody::OrientationTask orientation{torso, 16};
+  wholebody::PointTask height{torso, 16};
+  wholebody::PrioritizedIk ik{16, 6, {2, 3, 3}};
+  wholebody::WbcQp qp{model.layout(), 2};
+  Eigen::VectorXd q, v;
+  Eigen::MatrixXd J_c = Eigen::MatrixXd::Zero(6, 16);
+  Eigen::VectorXd Jc_dot_v = Eigen::VectorXd::Zero(6);
+  wholebody::ContactSetting contacts[2];
+
+  DoubleSupport() {
+    q = model.dynamics().neutral_configuration();
+    q[6] = 1.0;
+    for (const char* j : {"l_knee", "r_knee"}) q[model.layout().joints[static_cast<size_t>(model.layout().joint_index(j))].q_index] = 0.6;
+    v = Eigen::VectorXd::Constant(16, 0.05);
+    orientation.set_gains(100, 20);
+    height.set_gains(100, 20);
+    yaws.set_gains(100, 20);
+    height.set_reference(Eigen::Vector3d(0, 0, 1.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  }
+  void terms() { model.update(q, v, data); }
+  wholebody::QpStatus control() {
+    J_c.topRows(3) = data.frames[static_cast<size_t>(left)].J.bottomRows(3);
+    J_c.bottomRows(3) = data.frames[static_cast<size_t>(right)].J.bottomRows(3);
+    Jc_dot_v.head(3) = data.frames[static_cast<size_t>(left)].Jdot_v.tail(3);
+    Jc_dot_v.tail(3) = data.frames[static_cast<size_t>(right)].Jdot_v.tail(3);
+    yaws.update(data);
+    orientation.update(data);
+    height.update(data);
+    const wholebody::Task* tasks[] = {&yaws, &orientation, &height};
+    ik.solve(data, J_c, Jc_dot_v, tasks);
+    return qp.solve(data, J_c, Jc_dot_v, ik.qdd(), contacts);
+  }
+};
+
+void BM_WbcTermsIkAndQp(benchmark::State& state) {
+  DoubleSupport s;
+  s.terms();
+  if (s.control() != wholebody::QpStatus::Optimal) state.SkipWithError("the QP found no solution");
+  for (auto _ : state) {
+    s.terms();
+    s.control();
+    benchmark::DoNotOptimize(s.qp.tau().data());
+  }
+}
+BENCHMARK(BM_WbcTermsIkAndQp);
+
+void BM_WbcModelTermsOnly(benchmark::State& state) {
+  DoubleSupport s;
+  for (auto _ : state) {
+    s.terms();
+    benchmark::DoNotOptimize(s.data.A.data());
+  }
+}
+BENCHMARK(BM_WbcModelTermsOnly);
+
+}  // namespace
+
+BENCHMARK_MAIN();
