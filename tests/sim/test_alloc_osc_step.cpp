@@ -2,15 +2,18 @@
 // (sim::OscController: the robot model's update over model::RobotDynamics, the point and
 // posture tasks, the OSC law, the load-damping feedforward and the torque -> force
 // conversion) after construction. The C allocator is interposed in this executable to
-// count (as in tests/model/test_alloc_steps.cpp); skipped under AddressSanitizer.
+// count (as in tests/model/test_alloc_steps.cpp); skipped under AddressSanitizer. Also
+// the kinematic CoM estimator's update (issue 15).
 #include <gtest/gtest.h>
 
 #include "malloc_counter.hpp"
 
+#include <cmath>
 #include <vector>
 
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/robot_description.hpp"
+#include "dmbd/sim/com_estimator.hpp"
 #include "dmbd/sim/osc_controller.hpp"
 
 using dmbd::test::g_allocations;
@@ -42,6 +45,22 @@ TEST(NoAllocation, OscControllerStep) {
   for (int tick = 0; tick < 200; ++tick) osc.step(u.data(), y.data());
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_EQ(osc.tick_times_us().size(), 201u);
+}
+
+TEST(NoAllocation, ComEstimatorUpdate) {
+  DMBD_SKIP_UNDER_ASAN();
+  const model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
+  const Eigen::Vector3d sole(0.015, 0.0, -0.044);
+  KinematicComEstimator est(robot, {"l_foot", sole}, {"r_foot", sole});
+  est.set_stance(wholebody::Side::Right, Eigen::Vector3d(0.0, -0.15, 0.0));
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(10, 0.1), v = Eigen::VectorXd::Constant(10, -0.2);
+  const Eigen::Quaterniond R(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()));
+  est.update(R, Eigen::Vector3d(0.1, 0.0, 0.2), q, v);  // warm-up
+  const long before = g_allocations.load();
+  double sink = 0;
+  for (int k = 0; k < 100; ++k) sink += est.update(R, Eigen::Vector3d(0.1, 0.0, 0.2), q, v).com_m.z();
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_TRUE(std::isfinite(sink));
 }
 
 }  // namespace
