@@ -11,16 +11,10 @@
 #include <string>
 
 #include "dmbd/wholebody/swing.hpp"
+#include "recorded_error.hpp"
 
 namespace dmbd::wholebody::testing {
 namespace {
-
-// A recorded error as text, three significant digits.
-std::string text(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
 
 const double kT = 0.33, kReplan = 0.5 * kT;
 const Eigen::Vector3d kLiftOff(0.0, -0.14, 0.0), kTarget(0.05, -0.33, 0.0);

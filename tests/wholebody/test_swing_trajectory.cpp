@@ -13,16 +13,10 @@
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/wholebody/swing.hpp"
+#include "recorded_error.hpp"
 
 namespace dmbd::wholebody::testing {
 namespace {
-
-// A recorded error as text, three significant digits.
-std::string text(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
 
 const double kT = 0.33;
 // A left foot stepping forward and outward, lifting off from and landing on the ground;

@@ -15,16 +15,10 @@
 #include <string>
 
 #include "dmbd/wholebody/tvr.hpp"
+#include "recorded_error.hpp"
 
 namespace dmbd::wholebody::testing {
 namespace {
-
-// A recorded error as text, three significant digits.
-std::string text(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", x);
-  return buf;
-}
 
 const double kOmega = std::sqrt(9.81 / 1.0);
 
