@@ -11,6 +11,7 @@
 // (Fig. 6b) and osc_current_RUN.png.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -29,12 +30,19 @@ struct Window {
   bool in(std::size_t k) const { return t[k] >= t0; }
 };
 
+// RMS of a − b over the window (experiments.hpp's rms_error from t0 on).
 double rms(const Window& w, const std::vector<double>& a, const std::vector<double>& b) {
-  double sq = 0;
-  std::size_t n = 0;
-  for (std::size_t k = 0; k < a.size(); ++k)
-    if (w.in(k)) sq += (a[k] - b[k]) * (a[k] - b[k]), ++n;
-  return n ? std::sqrt(sq / static_cast<double>(n)) : std::nan("");
+  return rms_error(w.t, a, b, w.t0, std::numeric_limits<double>::infinity());
+}
+
+// The next of a figure's stacked axes sharing one time axis, labelled y_label; only the
+// last one shows the time labels.
+plot::Axes& stacked_axes(plot::Figure& fig, const std::string& y_label, bool last) {
+  auto& a = fig.axes().emplace_back();
+  a.y_label = y_label;
+  a.x_tick_labels = last;
+  if (last) a.x_label = "Time (s)";
+  return a;
 }
 
 // The leg's joints: those with a sensed torque in the log whose names start with `leg`.
@@ -82,10 +90,7 @@ plot::Figure point_figure(const std::vector<VariantResult>& runs, const std::str
   plot::Figure fig(1200, 900);
   fig.title = "Ankle position: desired (dashed) and measured (paper Fig. 6c)";
   for (const char* axis : {"x", "y", "z"}) {
-    auto& a = fig.add_axes();
-    a.y_label = std::string(axis) + " (m)";
-    a.x_tick_labels = std::string(axis) == "z";
-    if (a.x_tick_labels) a.x_label = "Time (s)";
+    auto& a = stacked_axes(fig, std::string(axis) + " (m)", std::string(axis) == "z");
     for (std::size_t i = 0; i < runs.size(); ++i) {
       const auto& r = runs[i];
       a.series.push_back({r.name + " desired", r.log.time(), signal(r, std::string("osc.") + axis + "_d", file), plot::palette_color(i), 1.5, true});
@@ -100,10 +105,7 @@ plot::Figure error_figure(const std::vector<VariantResult>& runs, double t0, con
   plot::Figure fig(1200, 900);
   fig.title = "Ankle tracking error (desired - measured)";
   for (const char* axis : {"x", "y", "z"}) {
-    auto& a = fig.add_axes();
-    a.y_label = std::string(axis) + " error (mm)";
-    a.x_tick_labels = std::string(axis) == "z";
-    if (a.x_tick_labels) a.x_label = "Time (s)";
+    auto& a = stacked_axes(fig, std::string(axis) + " error (mm)", std::string(axis) == "z");
     if (t0 > 0) {
       a.v_lines = {t0};
       a.v_line_labels = {"metrics from here"};
@@ -123,10 +125,7 @@ plot::Figure torque_figure(const VariantResult& r, const std::vector<std::string
   plot::Figure fig(1200, 200 * static_cast<int>(std::max<std::size_t>(joints.size(), 1)) + 100);
   fig.title = r.name + ": joint torque, desired (dashed) and sensed (paper Fig. 6b)";
   for (std::size_t i = 0; i < joints.size(); ++i) {
-    auto& a = fig.axes().emplace_back();
-    a.y_label = joints[i] + " (N m)";
-    a.x_tick_labels = i + 1 == joints.size();
-    if (a.x_tick_labels) a.x_label = "Time (s)";
+    auto& a = stacked_axes(fig, joints[i] + " (N m)", i + 1 == joints.size());
     a.series.push_back({"desired", r.log.time(), signal(r, joints[i] + ".tau_d", file), plot::palette_color(0), 1.5, true});
     a.series.push_back({"sensed", r.log.time(), signal(r, joints[i] + ".tau_s", file), plot::palette_color(1)});
   }
@@ -137,10 +136,7 @@ plot::Figure current_figure(const VariantResult& r, const std::vector<std::strin
   plot::Figure fig(1200, 200 * static_cast<int>(std::max<std::size_t>(joints.size(), 1)) + 100);
   fig.title = r.name + ": motor current and its limit";
   for (std::size_t i = 0; i < joints.size(); ++i) {
-    auto& a = fig.axes().emplace_back();
-    a.y_label = joints[i] + " (A)";
-    a.x_tick_labels = i + 1 == joints.size();
-    if (a.x_tick_labels) a.x_label = "Time (s)";
+    auto& a = stacked_axes(fig, joints[i] + " (A)", i + 1 == joints.size());
     a.series.push_back({"applied", r.log.time(), signal(r, joints[i] + ".current_applied", file), plot::palette_color(2)});
     if (const auto lim = r.truth.find(joints[i] + ".current_limit_A"); lim != r.truth.end()) {
       a.h_lines = {lim->second, -lim->second};
