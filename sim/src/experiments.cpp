@@ -277,6 +277,7 @@ double rms_error(const std::vector<double>& t, const std::vector<double>& r, con
 
 ExperimentResult sysid_rfsea(const Scenario& s, const std::vector<VariantResult>& runs);  // sysid_experiment.cpp
 ExperimentResult osc_table(const Scenario& s, const std::vector<VariantResult>& runs);    // osc_experiment.cpp
+ExperimentResult balance(const Scenario& s, const std::vector<VariantResult>& runs);      // balance_experiment.cpp
 
 ExperimentResult evaluate_experiment(const Scenario& s, const std::vector<VariantResult>& runs) {
   ExperimentResult res;
@@ -287,6 +288,7 @@ ExperimentResult evaluate_experiment(const Scenario& s, const std::vector<Varian
   else if (type == "sysid_rfsea") res = sysid_rfsea(s, runs);
   else if (type == "standing") res = standing(s, runs);
   else if (type == "osc_table") res = osc_table(s, runs);
+  else if (type == "balance") res = balance(s, runs);
   // The scenario's own plots: "signal" (every variant) or "variant:signal".
   for (const auto& p : s.plots) {
     plot::Figure fig(1200, 600);

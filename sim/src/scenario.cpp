@@ -164,6 +164,16 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   SimulationSpec spec;
   spec.references = v.references;
   spec.forces = v.forces;
+  if (v.robot.support) {
+    if (v.robot.base != model::BaseMode::Floating) {
+      const auto w = v.robot.where.find("support");
+      throw InputError((w == v.robot.where.end() ? s.file : w->second) + ": robot.support: only a floating base can be supported");
+    }
+    spec.support = v.robot.support;
+  }
+  if (v.end_on_fall && v.robot.base != model::BaseMode::Floating)
+    throw InputError(s.file + ": end_on_fall: only a floating-base robot can fall");
+  spec.end_on_fall = v.end_on_fall;
   spec.duration_s = options.duration_s.value_or(v.duration_s);
   spec.log_rate_hz = v.log_rate_hz;
   spec.sensor_noise = v.sensor_noise;
@@ -184,6 +194,12 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
       res.truth[plant.actuator(k).joint + ".current_limit_A"] = plant.actuator(k).current_limit_A;
   }
 
+  std::shared_ptr<BalanceController> balance;
+  if (v.balance) {
+    balance = balance_controller(s, v, vp, plant, spec.duration_s);
+    spec.controllers.push_back(balance_spec(*v.balance, balance));
+  }
+
   Simulation sim(plant, spec);
   const auto t0 = std::chrono::steady_clock::now();
   const long long steps0 = plant.integrator_steps();
@@ -194,7 +210,8 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   res.controller_steps = sim.controller_steps();
   res.clamp_events = sim.controller_clamp_events();
   fixed_point_warnings(res);
-  if (osc) osc_timing(*osc, res);
+  if (osc) tick_timing(osc->tick_times_us(), "osc", res);
+  if (balance) tick_timing(balance->tick_times_us(), "wbc", res);
   return res;
 }
 

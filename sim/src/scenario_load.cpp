@@ -169,7 +169,7 @@ struct Reader {
 
   void robot(const YAML::Node& n, RobotSetup& r) const {
     keys(n, "robot", {"urdf", "base", "base_pose", "actuators", "moving", "freeze", "initial", "lock", "payloads", "loads",
-                      "contact", "gravity"});
+                      "contact", "gravity", "support"});
     optional(n, "urdf", [&](const YAML::Node& u) { r.urdf = text(u, "robot.urdf") == "draco" ? "draco" : path(u, "robot.urdf"); });
     optional(n, "base", [&](const YAML::Node& b) {
       const std::string t = text(b, "robot.base");
@@ -193,6 +193,19 @@ struct Reader {
     optional(n, "loads", [&](const YAML::Node&) { loads(n, r); });
     optional(n, "contact", [&](const YAML::Node& c) { r.contact = boolean(c, "robot.contact"); });
     optional(n, "gravity", [&](const YAML::Node& g) { r.gravity_m_s2 = number(g, "robot.gravity"); });
+    optional(n, "support", [&](const YAML::Node& x) { support(x, r); });
+  }
+
+  // The start-up support of a floating base (SupportSpec, simulation.hpp).
+  void support(const YAML::Node& x, RobotSetup& r) const {
+    keys(x, "robot.support", {"release_s", "stiffness_N_per_m", "damping_N_s_per_m", "height_m"});
+    SupportSpec s;
+    s.release_s = rd.number_in(required(x, "release_s", "robot.support"), "robot.support.release_s", 0.0, 1e6, "s");
+    optional(x, "stiffness_N_per_m", [&](const YAML::Node& y) { s.stiffness_N_per_m = rd.number_in(y, "robot.support.stiffness_N_per_m", 0.0, 1e9, "N/m"); });
+    optional(x, "damping_N_s_per_m", [&](const YAML::Node& y) { s.damping_N_s_per_m = rd.number_in(y, "robot.support.damping_N_s_per_m", 0.0, 1e9, "N s/m"); });
+    optional(x, "height_m", [&](const YAML::Node& y) { s.height_m = rd.number_in(y, "robot.support.height_m", 0.01, 10.0, "m"); });
+    r.support = s;
+    r.where["support"] = at(x);
   }
 
   Eigen::Isometry3d base_pose(const YAML::Node& p) const {
@@ -321,6 +334,115 @@ struct Reader {
     optional(n, "integration", [&](const YAML::Node& i) { integration(i, v.integration); });
     optional(n, "thermal", [&](const YAML::Node& t) { thermal(t, v); });
     optional(n, "osc", [&](const YAML::Node& o) { osc(o, v); });
+    optional(n, "balance", [&](const YAML::Node& b) { balance(b, v); });
+    optional(n, "end_on_fall", [&](const YAML::Node& e) { end_on_fall(e, v); });
+  }
+
+  // EndOnFall (simulation.hpp): true, false, or a map of its two thresholds.
+  void end_on_fall(const YAML::Node& n, VariantSetup& v) const {
+    if (n.IsScalar()) {
+      v.end_on_fall = boolean(n, "end_on_fall") ? std::optional<EndOnFall>(EndOnFall{}) : std::nullopt;
+      return;
+    }
+    keys(n, "end_on_fall", {"torso_below_m", "tilt_above_rad"});
+    EndOnFall e;
+    optional(n, "torso_below_m", [&](const YAML::Node& x) { e.torso_below_m = rd.number_in(x, "end_on_fall.torso_below_m", 0.0, 10.0, "m"); });
+    optional(n, "tilt_above_rad", [&](const YAML::Node& x) { e.tilt_above_rad = rd.number_in(x, "end_on_fall.tilt_above_rad", 0.0, M_PI, "rad"); });
+    v.end_on_fall = e;
+  }
+
+  Eigen::Vector2d vec2(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsSequence() || n.size() != 2) fail(n, what + ": expected a list of 2 numbers [x, y]");
+    return {number(n[0], what), number(n[1], what)};
+  }
+
+  // The balancing controller (balance_controller.hpp), merged key by key into the base's.
+  void balance(const YAML::Node& n, VariantSetup& v) const {
+    keys(n, "balance", {"stance_posture", "torso_height_m", "swing_ankle_rad", "rate_hz", "delay_s", "sensors", "estimator",
+                        "motion_capture_noise", "joint_feedback", "phases", "tvr", "swing", "qp", "seed", "fall_tilt_rad"});
+    BalanceSetup b = v.balance.value_or(BalanceSetup{});
+    b.where = at(n);
+    optional(n, "stance_posture", [&](const YAML::Node& x) { b.stance_posture = angles(x, "balance.stance_posture"); });
+    optional(n, "torso_height_m", [&](const YAML::Node& x) { b.torso_height_m = rd.number_in(x, "balance.torso_height_m", 0.1, 10.0, "m"); });
+    optional(n, "swing_ankle_rad", [&](const YAML::Node& x) { b.swing_ankle_rad = rd.number_in(x, "balance.swing_ankle_rad", -M_PI, M_PI, "rad"); });
+    optional(n, "fall_tilt_rad", [&](const YAML::Node& x) { b.fall_tilt_rad = rd.number_in(x, "balance.fall_tilt_rad", 0.0, M_PI, "rad"); });
+    optional(n, "rate_hz", [&](const YAML::Node& r) { b.rate_hz = rate(r, "balance.rate_hz"); });
+    optional(n, "delay_s", [&](const YAML::Node& d) {
+      const double delay = rd.number_in(d, "balance.delay_s", 0.0, 1e9, "s");
+      if (delay > 1.0 / b.rate_hz)
+        fail(d, fmt::format("balance.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, b.rate_hz, 1.0 / b.rate_hz));
+      b.delay_s = delay;
+    });
+    optional(n, "sensors", [&](const YAML::Node& x) {
+      keys(x, "balance.sensors", {"q", "qd"});
+      optional(x, "q", [&](const YAML::Node& y) { b.q_signal = text(y, "balance.sensors.q"); });
+      optional(x, "qd", [&](const YAML::Node& y) { b.qd_signal = text(y, "balance.sensors.qd"); });
+    });
+    optional(n, "estimator", [&](const YAML::Node& x) {
+      const std::string e = text(x, "balance.estimator");
+      if (e == "kinematic") b.estimator = BalanceEstimator::Kinematic;
+      else if (e == "motion_capture") b.estimator = BalanceEstimator::MotionCapture;
+      else fail(x, "balance.estimator: expected kinematic or motion_capture, got '" + e + "'");
+    });
+    optional(n, "motion_capture_noise", [&](const YAML::Node& x) {
+      keys(x, "balance.motion_capture_noise", {"position_m", "velocity_m_s"});
+      optional(x, "position_m", [&](const YAML::Node& y) { b.mocap_position_noise_m = rd.number_in(y, "balance.motion_capture_noise.position_m", 0.0, 1.0, "m"); });
+      optional(x, "velocity_m_s", [&](const YAML::Node& y) { b.mocap_velocity_noise_m_s = rd.number_in(y, "balance.motion_capture_noise.velocity_m_s", 0.0, 10.0, "m/s"); });
+    });
+    optional(n, "seed", [&](const YAML::Node& x) { b.seed = static_cast<unsigned long long>(integer(x, "balance.seed", 0, kMaxExactInteger)); });
+    optional(n, "joint_feedback", [&](const YAML::Node& x) {
+      if (!x.IsMap()) fail(x, "balance.joint_feedback: expected a map of joint: [kp, kd]");
+      b.joint_feedback.clear();
+      for (const auto& kv : x) {
+        const std::string j = key(kv.first, "balance.joint_feedback");
+        const Eigen::Vector2d g = vec2(kv.second, "balance.joint_feedback." + j);
+        if ((g.array() < 0).any()) fail(kv.second, "balance.joint_feedback." + j + ": expected gains of 0 or more");
+        b.joint_feedback.push_back({j, {g[0], g[1]}});
+      }
+    });
+    optional(n, "phases", [&](const YAML::Node& x) { balance_phases(x, b.phases); });
+    optional(n, "tvr", [&](const YAML::Node& x) {
+      keys(x, "balance.tvr", {"t_prime_s", "kappa", "com_height_m"});
+      optional(x, "t_prime_s", [&](const YAML::Node& y) { b.tvr.t_prime_s = vec2(y, "balance.tvr.t_prime_s"); });
+      optional(x, "kappa", [&](const YAML::Node& y) { b.tvr.kappa = vec2(y, "balance.tvr.kappa"); });
+      optional(x, "com_height_m", [&](const YAML::Node& y) { b.tvr.com_height_m = rd.number_in(y, "balance.tvr.com_height_m", 0.1, 10.0, "m"); });
+    });
+    optional(n, "swing", [&](const YAML::Node& x) {
+      keys(x, "balance.swing", {"mid_height_m", "landing_vertical_velocity_m_s"});
+      optional(x, "mid_height_m", [&](const YAML::Node& y) { b.swing.mid_height_m = rd.number_in(y, "balance.swing.mid_height_m", 0.0, 1.0, "m"); });
+      optional(x, "landing_vertical_velocity_m_s", [&](const YAML::Node& y) {
+        b.swing.landing_vertical_velocity_m_s = rd.number_in(y, "balance.swing.landing_vertical_velocity_m_s", -10.0, 0.0, "m/s");
+      });
+    });
+    optional(n, "qp", [&](const YAML::Node& x) {
+      keys(x, "balance.qp", {"mu", "w_qdd", "torque_limit_Nm"});
+      optional(x, "mu", [&](const YAML::Node& y) { b.qp.mu = rd.number_in(y, "balance.qp.mu", 0.0, 10.0, ""); });
+      optional(x, "w_qdd", [&](const YAML::Node& y) { b.qp.w_qdd = rd.number_in(y, "balance.qp.w_qdd", 1e-9, 1e12, ""); });
+      optional(x, "torque_limit_Nm", [&](const YAML::Node& y) { b.qp.torque_limit_Nm = rd.number_in(y, "balance.qp.torque_limit_Nm", 0.0, 1e6, "N m"); });
+    });
+    v.balance = b;
+  }
+
+  void balance_phases(const YAML::Node& x, wholebody::PhaseMachineParams& p) const {
+    keys(x, "balance.phases", {"joint_move_s", "body_lift_s", "double_support_s", "lift_s", "swing_s", "landing_s", "first_swing",
+                                      "body_lift_start_force_N", "body_lift_end_force_N"});
+    auto dur = [&](const char* k, double& d) {
+      optional(x, k, [&](const YAML::Node& y) { d = rd.number_in(y, std::string("balance.phases.") + k, 1e-4, 1e6, "s"); });
+    };
+    dur("joint_move_s", p.joint_move_s);
+    dur("body_lift_s", p.body_lift_s);
+    dur("double_support_s", p.double_support_s);
+    dur("lift_s", p.lift_s);
+    dur("swing_s", p.swing_s);
+    dur("landing_s", p.landing_s);
+    optional(x, "body_lift_start_force_N", [&](const YAML::Node& y) { p.body_lift_start_force_N = rd.number_in(y, "balance.phases.body_lift_start_force_N", 0.0, 1e5, "N"); });
+    optional(x, "body_lift_end_force_N", [&](const YAML::Node& y) { p.body_lift_end_force_N = rd.number_in(y, "balance.phases.body_lift_end_force_N", 0.0, 1e5, "N"); });
+    optional(x, "first_swing", [&](const YAML::Node& y) {
+      const std::string s = text(y, "balance.phases.first_swing");
+      if (s == "left") p.first_swing_side = wholebody::Side::Left;
+      else if (s == "right") p.first_swing_side = wholebody::Side::Right;
+      else fail(y, "balance.phases.first_swing: expected left or right, got '" + s + "'");
+    });
   }
 
   // Three gains: one number for every axis, or a list of three.
@@ -403,7 +525,7 @@ struct Reader {
 };
 
 const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "controllers", "references", "forces", "duration_s",
-                                                         "log_rate_hz", "sensors", "thermal", "integration", "osc"};
+                                                         "log_rate_hz", "sensors", "thermal", "integration", "osc", "balance", "end_on_fall"};
 
 void read_variants(const Reader& rd, const YAML::Node& list, const VariantSetup& base, Scenario& s) {
   if (!list.IsSequence()) rd.fail(list, "variants: expected a list");
@@ -489,6 +611,7 @@ const std::map<std::string, bool>& experiment_keys(const std::string& type) {
       {"thermal", {}},
       {"standing", {}},
       {"osc_table", {{"leg", true}, {"window_start_s", false}}},
+      {"balance", {{"leg", true}, {"start_s", false}, {"fall_height_m", false}, {"fall_tilt_rad", false}}},
       {"sysid_rfsea",
        {{"lead_in_s", false}, {"locked_f0_hz", false}, {"locked_f1_hz", false}, {"free_f0_hz", false}, {"free_f1_hz", false}, {"frequencies", false}}},
   };
@@ -498,9 +621,9 @@ const std::map<std::string, bool>& experiment_keys(const std::string& type) {
 void read_experiment(const Reader& rd, const YAML::Node& e, ExperimentSetup& x) {
   if (!e.IsMap() || !e["type"]) rd.fail(e, "experiment: expected a map with 'type'");
   x.type = rd.text(e["type"], "experiment.type");
-  static const std::set<std::string> kTypes = {"sysid_rfsea", "force_tracking", "step_response", "thermal", "standing", "osc_table"};
+  static const std::set<std::string> kTypes = {"sysid_rfsea", "force_tracking", "step_response", "thermal", "standing", "osc_table", "balance"};
   if (!kTypes.count(x.type))
-    rd.fail(e["type"], "experiment.type: expected sysid_rfsea, force_tracking, step_response, thermal, standing or osc_table, got '" + x.type + "'");
+    rd.fail(e["type"], "experiment.type: expected sysid_rfsea, force_tracking, step_response, thermal, standing, osc_table or balance, got '" + x.type + "'");
   const auto& allowed = experiment_keys(x.type);
   for (const auto& kv : e) {
     rd.rd.guard([&] {
@@ -526,7 +649,7 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   if (!root.IsMap()) rd.rd.fail(Location{path, 1, 1}, "a scenario is a map (name, robot, controllers, ...)");
   // Unknown keys are reported and the rest is read all the same.
   rd.rd.keys(root, {"name", "description", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz", "sensors",
-                    "thermal", "integration", "osc", "frames", "plots", "variants", "matrix", "experiment"},
+                    "thermal", "integration", "osc", "balance", "end_on_fall", "frames", "plots", "variants", "matrix", "experiment"},
              "scenario");
   Scenario s;
   s.file = path;

@@ -84,6 +84,7 @@ struct Simulation::Impl {
   std::vector<Ctrl> ctrls;
   std::vector<int> ref_sig;
   std::vector<int> force_link;
+  int base_link = 0;
 
   Eigen::VectorXd currents, torques, q, qd;
   Ns last_sensor_ns = -1;
@@ -101,6 +102,8 @@ struct Simulation::Impl {
       sig_base = add("base.x", "m");
       for (const char* n : {"base.y", "base.z"}) add(n, "m");
       for (const char* n : {"base.roll", "base.pitch", "base.yaw", "base.tilt"}) add(n, "rad");
+      for (const char* n : {"base.wx", "base.wy", "base.wz"}) add(n, "rad/s");
+      for (const char* n : {"base.vx", "base.vy", "base.vz"}) add(n, "m/s");
     }
     for (int k = 0; k < na; ++k) {
       const model::ActuatorParams& a = plant.actuator(k);
@@ -143,6 +146,10 @@ struct Simulation::Impl {
       const bool command = r.name.size() > 8 && (r.name.rfind(".current") == r.name.size() - 8 || r.name.rfind(".torque") == r.name.size() - 7);
       if (existing >= 0 && !command) throw InputError(at(r.where) + "reference '" + r.name + "': the name is already a bus signal");
       ref_sig.push_back(existing >= 0 ? existing : add(r.name, ""));
+    }
+    if (spec.support) {
+      if (plant.options().base != model::BaseMode::Floating) throw InputError("support: the robot's base is not floating");
+      base_link = 0;  // the root link is the floating base
     }
     for (const auto& f : spec.forces) {
       const int l = plant.description().link_index(f.link);
@@ -207,13 +214,16 @@ struct Simulation::Impl {
     if (sig_base >= 0) refresh_base();
   }
   // The torso's position and its roll, pitch, yaw (R = Rz(yaw) Ry(pitch) Rx(roll)) and
-  // tilt (the angle of its z axis from the vertical).
+  // tilt (the angle of its z axis from the vertical), its angular velocity (an ideal
+  // gyro, world axes) and its origin's velocity (world).
   void refresh_base() {
     const Eigen::Isometry3d X = plant.base_pose();
     const Eigen::Matrix3d& R = X.linear();
-    const double v[7] = {X.translation().x(), X.translation().y(), X.translation().z(), std::atan2(R(2, 1), R(2, 2)),
-                         std::asin(std::clamp(-R(2, 0), -1.0, 1.0)), std::atan2(R(1, 0), R(0, 0)), std::acos(std::clamp(R(2, 2), -1.0, 1.0))};
-    for (int k = 0; k < 7; ++k) bus[static_cast<std::size_t>(sig_base + k)] = v[k];
+    const Eigen::Matrix<double, 6, 1> V = plant.base_velocity();
+    const double v[13] = {X.translation().x(), X.translation().y(), X.translation().z(), std::atan2(R(2, 1), R(2, 2)),
+                          std::asin(std::clamp(-R(2, 0), -1.0, 1.0)), std::atan2(R(1, 0), R(0, 0)), std::acos(std::clamp(R(2, 2), -1.0, 1.0)),
+                          V[0], V[1], V[2], V[3], V[4], V[5]};
+    for (int k = 0; k < 13; ++k) bus[static_cast<std::size_t>(sig_base + k)] = v[k];
   }
   void refresh_references(double t) {
     for (std::size_t r = 0; r < ref_sig.size(); ++r) bus[static_cast<std::size_t>(ref_sig[r])] = spec.references[r].source.value(t);
@@ -283,7 +293,7 @@ struct Simulation::Impl {
   // Forces are held between events; the plant is only touched when one changes (each
   // change restarts its integrator).
   void apply_forces(double t) {
-    if (spec.forces.empty()) return;
+    if (spec.forces.empty() && !spec.support) return;
     bool changed = force_values.size() != spec.forces.size();
     force_values.resize(spec.forces.size());
     for (std::size_t f = 0; f < spec.forces.size(); ++f) {
@@ -291,10 +301,39 @@ struct Simulation::Impl {
       changed = changed || v != force_values[f];
       force_values[f] = v;
     }
-    if (!changed) return;
+    const bool support = supported(t);
+    if (!changed && !support && !support_active) return;
     plant.clear_external_forces();
     for (std::size_t f = 0; f < spec.forces.size(); ++f)
-      plant.set_external_force(force_link[f], spec.forces[f].point_L, spec.forces[f].direction_W * spec.forces[f].source.value(t));
+      plant.set_external_force(force_link[f], spec.forces[f].point_L, spec.forces[f].direction_W * force_values[f]);
+    support_active = support;
+    if (support) apply_support();
+  }
+  bool down = false;
+  bool is_down() const {
+    if (!spec.end_on_fall || sig_base < 0) return false;
+    const double z = bus[static_cast<std::size_t>(sig_base + 2)], tilt = bus[static_cast<std::size_t>(sig_base + 6)];
+    return z < spec.end_on_fall->torso_below_m || tilt > spec.end_on_fall->tilt_above_rad;
+  }
+  bool supported(double t) const { return spec.support && t < spec.support->release_s; }
+  // SupportSpec: at each of the two points, f = −k (p − p₀) − c ṗ, horizontal; p₀ where
+  // the point was on the first call.
+  Eigen::Vector3d support_anchor[2];
+  bool anchors_set = false, support_active = false;
+  void apply_support() {
+    const Eigen::Isometry3d X = plant.base_pose();
+    const Eigen::Matrix<double, 6, 1> V = plant.base_velocity();
+    const SupportSpec& s = *spec.support;
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector3d p_L(0, 0, k * s.height_m);
+      const Eigen::Vector3d p = X * p_L;
+      if (!anchors_set) support_anchor[k] = p;
+      const Eigen::Vector3d v = V.tail<3>() + V.head<3>().cross(p - X.translation());
+      Eigen::Vector3d f = -s.stiffness_N_per_m * (p - support_anchor[k]) - s.damping_N_s_per_m * v;
+      f.z() = 0.0;
+      plant.set_external_force(base_link, p_L, f);
+    }
+    anchors_set = true;
   }
   void advance_thermal(double dt) {
     if (dt <= 0 || na == 0) return;
@@ -417,7 +456,7 @@ Log Simulation::run(const std::function<void(double)>& on_progress) {
       on_progress(static_cast<double>(t) / static_cast<double>(end));
       next_progress += std::max<Ns>(end / 100, 1);
     }
-    if (t >= end) break;
+    if (t >= end || m.down) break;
     Ns next = std::min(end, next_log);
     for (const auto& c : m.ctrls) next = std::min({next, c.next_tick, c.publish_at});
     try {
@@ -431,6 +470,11 @@ Log Simulation::run(const std::function<void(double)>& on_progress) {
     t = next;
     m.apply_forces(m.t_of(t));
     m.refresh_true();
+    if (m.is_down()) {  // log this instant, then end
+      m.down = true;
+      next_log = t;
+      continue;
+    }
     for (int j = 0; j < m.nj; ++j)
       if (!std::isfinite(m.q[j]) || std::abs(m.qd[j]) > m.spec.max_joint_rate_rad_s)
         throw DivergenceError(fmt::format("simulation diverged at t = {:.6g} s: joint '{}' runs away ({})", m.t_of(t),

@@ -122,12 +122,40 @@ ControllerSpec osc_spec(const OscSetup& setup, std::shared_ptr<OscController> os
   return cs;
 }
 
-void osc_timing(const OscController& osc, VariantResult& r) {
-  std::vector<double> t = osc.tick_times_us();
+std::shared_ptr<BalanceController> balance_controller(const Scenario& s, const VariantSetup& v, const VariantPlant& vp,
+                                                      const model::Plant& plant, double duration_s) {
+  const BalanceSetup& b = *v.balance;
+  const std::string where = b.where.empty() ? s.file : b.where;
+  if (v.robot.base != model::BaseMode::Floating)
+    throw InputError(where + ": balance: balancing needs the robot's base floating (robot.base: floating)");
+  if (!v.robot.contact) throw InputError(where + ": balance: balancing needs ground contact (robot.contact: true)");
+  std::vector<model::ActuatorParams> actuators;
+  for (int k = 0; k < plant.num_actuators(); ++k) actuators.push_back(plant.actuator(k));
+  std::vector<std::pair<std::string, double>> q0;
+  for (const auto& j : vp.robot.joints) q0.emplace_back(j.name, initial_angle(v.robot, j.name));
+  const auto ticks = static_cast<long long>(std::ceil(duration_s * b.rate_hz)) + 1;
+  BalanceSetup located = b;
+  located.where = where;
+  return std::make_shared<BalanceController>(vp.robot, v.robot.gravity_m_s2, actuators, q0, located, ticks);
+}
+
+ControllerSpec balance_spec(const BalanceSetup& setup, std::shared_ptr<BalanceController> c) {
+  ControllerSpec cs;
+  cs.name = "balance";
+  cs.delay_s = setup.delay_s;
+  cs.where = setup.where;
+  for (int k = 0; k < c->num_inputs(); ++k) cs.inputs.push_back(c->input_name(k));
+  for (int k = 0; k < c->num_outputs(); ++k) cs.outputs.push_back(c->output_name(k));
+  cs.controller = std::move(c);
+  return cs;
+}
+
+void tick_timing(const std::vector<double>& times_us, const std::string& prefix, VariantResult& r) {
+  std::vector<double> t = times_us;
   if (t.empty()) return;
   std::nth_element(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(t.size() / 2), t.end());
-  r.timing_us["osc_tick_us_median"] = t[t.size() / 2];
-  r.timing_us["osc_tick_us_max"] = *std::max_element(t.begin(), t.end());
+  r.timing_us[prefix + "_tick_us_median"] = t[t.size() / 2];
+  r.timing_us[prefix + "_tick_us_max"] = *std::max_element(t.begin(), t.end());
 }
 
 void fixed_point_warnings(VariantResult& r) {

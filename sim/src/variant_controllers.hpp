@@ -26,7 +26,14 @@ std::shared_ptr<OscController> osc_controller(const Scenario& s, const VariantSe
 // Its ports bound to the bus signals they are named after.
 ControllerSpec osc_spec(const OscSetup& setup, std::shared_ptr<OscController> osc);
 // The median and largest wall time of its evaluations into r.timing_us.
-void osc_timing(const OscController& osc, VariantResult& r);
+// The variant's balancing controller (VariantSetup::balance); throws InputError at the
+// balance map for a fixed base or no contact.
+std::shared_ptr<BalanceController> balance_controller(const Scenario& s, const VariantSetup& v, const VariantPlant& vp,
+                                                      const model::Plant& plant, double duration_s);
+ControllerSpec balance_spec(const BalanceSetup& setup, std::shared_ptr<BalanceController> c);
+// The median and largest of a controller's tick times: timing_us[prefix + "_tick_us_median"]
+// and [prefix + "_tick_us_max"].
+void tick_timing(const std::vector<double>& times_us, const std::string& prefix, VariantResult& r);
 
 // A warning on the run for every fixed-point output whose bound exceeds its range, and
 // for saturations of a fixed-point controller (its bound does not hold past them).

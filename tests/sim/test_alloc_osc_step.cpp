@@ -13,6 +13,7 @@
 
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/robot_description.hpp"
+#include "dmbd/sim/balance_controller.hpp"
 #include "dmbd/sim/com_estimator.hpp"
 #include "dmbd/sim/osc_controller.hpp"
 
@@ -61,6 +62,53 @@ TEST(NoAllocation, ComEstimatorUpdate) {
   for (int k = 0; k < 100; ++k) sink += est.update(R, Eigen::Vector3d(0.1, 0.0, 0.2), q, v).com_m.z();
   EXPECT_EQ(g_allocations.load() - before, 0);
   EXPECT_TRUE(std::isfinite(sink));
+}
+
+}  // namespace
+}  // namespace dmbd::sim
+
+namespace dmbd::sim {
+namespace {
+
+// The balancing controller fed a still robot in its stance posture (level IMU): its
+// ticks go through the joint move, the body lift, double support, lift, the swing's start
+// (TVR, the spline) and mid-swing (the replan) with either estimator; none allocates
+// after the first.
+void expect_no_allocation_in_balance_steps(BalanceEstimator estimator) {
+  const model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
+  BalanceSetup setup;
+  setup.estimator = estimator;
+  setup.phases.joint_move_s = 0.05;
+  setup.phases.body_lift_s = 0.05;
+  setup.phases.body_lift_start_force_N = 300;
+  const std::vector<std::pair<std::string, double>> q0 = {
+      {"l_hip_pitch", -0.9}, {"l_knee", 1.7}, {"l_ankle", -0.8}, {"r_hip_pitch", -0.9}, {"r_knee", 1.7}, {"r_ankle", -0.8}};
+  BalanceController c(robot, 9.81, model::draco_actuators(), q0, setup, 2000);
+  std::vector<double> u(static_cast<size_t>(c.num_inputs()), 0.0), y(static_cast<size_t>(c.num_outputs()), 0.0);
+  for (int k = 0; k < c.num_inputs(); ++k) {
+    const std::string n = c.input_name(k);
+    for (const auto& [joint, angle] : q0)
+      if (n == joint + ".q") u[static_cast<size_t>(k)] = angle;
+    if (n == "base.z") u[static_cast<size_t>(k)] = 0.8;
+  }
+  c.step(u.data(), y.data());  // warm-up
+  const long before = g_allocations.load();
+  for (int tick = 0; tick < 500; ++tick) c.step(u.data(), y.data());  // to 0.5 s: past the first mid-swing
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  int phase = -1;
+  for (int k = 0; k < c.num_outputs(); ++k)
+    if (c.output_name(k) == "balance.step") phase = static_cast<int>(y[static_cast<size_t>(k)]);
+  EXPECT_GE(phase, 1);  // stepping had begun
+}
+
+TEST(NoAllocation, BalanceControllerStepKinematicEstimator) {
+  DMBD_SKIP_UNDER_ASAN();
+  expect_no_allocation_in_balance_steps(BalanceEstimator::Kinematic);
+}
+
+TEST(NoAllocation, BalanceControllerStepMotionCapture) {
+  DMBD_SKIP_UNDER_ASAN();
+  expect_no_allocation_in_balance_steps(BalanceEstimator::MotionCapture);
 }
 
 }  // namespace

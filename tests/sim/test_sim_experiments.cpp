@@ -2,7 +2,9 @@
 // with closed forms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "dmbd/sim/experiments.hpp"
@@ -191,6 +193,175 @@ TEST(SimStepExperiment, TitlesColoursAndShortRuns) {
   const auto short_run = dmbd::sim::evaluate_experiment(ankle_step(), ankle_runs(1.0));
   ASSERT_EQ(short_run.warnings.size(), 2u);
   EXPECT_NE(short_run.warnings[0].find("ends at 1 s"), std::string::npos) << short_run.warnings[0];
+}
+
+}  // namespace
+
+namespace {
+
+// Issue 15's balance experiment on a synthetic stepping log at 100 Hz, 0 to 10 s
+// (sample k at k / 100 s; every event on a sample):
+//   touch-downs at samples 450, 500, ..., 850 (nine) and 950; at the j-th the latched
+//   landed point misses the planned one by 0.01 j m (along (0.6, 0.8); 0.1 m at the 10th);
+//   com_vy = ±0.1 flipping sign from samples 420, 475, 575, 625, 800 and 920 on (0 at
+//   sample 520: no change of sign);
+//   the fall (by `fall`: base.z 0.5 < 0.6 m, or base.tilt 0.6 > 0.5 rad) from sample 900.
+enum class Fall { None, Height, Tilt };
+// Both knees' windings under both thermal models, one model only (J.T_winding), none.
+enum class Thermal { Both, Single, None };
+
+dmbd::sim::VariantResult stepping_log(const std::string& name, Fall fall, Thermal thermal) {
+  dmbd::sim::VariantResult r;
+  r.name = name;
+  std::vector<std::string> cols = {"base.z", "base.tilt", "balance.phase", "balance.swing_side", "balance.touch_downs",
+                                   "balance.qp_failures", "balance.com_x", "balance.com_y", "balance.com_vy", "balance.landed_x",
+                                   "balance.landed_y", "balance.planned_x", "balance.planned_y", "l_knee.q", "l_knee.q_des",
+                                   "l_ankle.q", "l_ankle.q_des", "r_knee.q", "r_knee.q_des"};
+  if (thermal == Thermal::Single) cols.push_back("l_knee.T_winding");
+  if (thermal == Thermal::Both)
+    for (const char* c : {"l_knee.T_winding_cooled", "r_knee.T_winding_cooled", "l_knee.T_winding_uncooled",
+                          "r_knee.T_winding_uncooled", "l_hip_pitch.T_winding_uncooled"})
+      cols.push_back(c);
+  for (const auto& c : cols) r.log.add_column(c, "");
+  auto set = [&](const std::string& c, double v) { r.log.set(r.log.find(c), v); };
+  const std::vector<int> touch_downs = {450, 500, 550, 600, 650, 700, 750, 800, 850, 950};
+  const std::vector<int> flips = {420, 475, 575, 625, 800, 920};
+  for (int k = 0; k <= 1000; ++k) {
+    const double t = k / 100.0;
+    r.log.begin_row(t);
+    const bool fallen = k >= 900;
+    set("base.z", fallen && fall == Fall::Height ? 0.5 : 0.9);
+    set("base.tilt", fallen && fall == Fall::Tilt ? 0.6 : 0.05);
+    const int j = static_cast<int>(std::count_if(touch_downs.begin(), touch_downs.end(), [&](int s) { return k >= s; }));
+    set("balance.touch_downs", j);
+    set("balance.qp_failures", k / 400);  // 2 at the end
+    const double planned_x = 0.1 * j, planned_y = j % 2 ? 0.1 : -0.1, miss = j == 10 ? 0.1 : 0.01 * j;
+    set("balance.planned_x", planned_x);
+    set("balance.planned_y", planned_y);
+    set("balance.landed_x", planned_x + 0.6 * miss);
+    set("balance.landed_y", planned_y + 0.8 * miss);
+    const int n_flips = static_cast<int>(std::count_if(flips.begin(), flips.end(), [&](int s) { return k >= s; }));
+    set("balance.com_vy", k == 520 ? 0.0 : (n_flips % 2 ? -0.1 : 0.1));
+    set("balance.com_y", 0.01 * std::sin(t));
+    set("balance.com_x", 0.0);
+    for (const char* c : {"balance.phase", "balance.swing_side", "l_knee.q", "l_knee.q_des", "l_ankle.q", "l_ankle.q_des", "r_knee.q",
+                          "r_knee.q_des"})
+      set(c, 0.0);
+    if (thermal == Thermal::Single) set("l_knee.T_winding", 60 - t);  // 60 at t = 0
+    if (thermal == Thermal::Both) {
+      set("l_knee.T_winding_cooled", 30 + t);        // 40 at the end
+      set("r_knee.T_winding_cooled", 45 - t);        // 45 at t = 0
+      set("l_knee.T_winding_uncooled", 30 + 5 * t);  // 80 at the end
+      set("r_knee.T_winding_uncooled", 30 + 2 * t);
+      set("l_hip_pitch.T_winding_uncooled", 200);    // not a knee
+    }
+  }
+  r.timing_us = {{"wbc_tick_us_median", 120}, {"wbc_tick_us_max", 800}};
+  r.real_time_factor = 1.5;
+  return r;
+}
+
+dmbd::sim::ForceSpec push(Eigen::Vector3d direction, double start_s, double end_s, double value) {
+  dmbd::sim::ForceSpec f;
+  f.link = "torso";
+  f.direction_W = direction;
+  f.source.kind = dmbd::sim::Source::Kind::Steps;
+  f.source.steps = {{start_s, value}, {end_s, 0.0}};
+  return f;
+}
+
+dmbd::sim::Scenario balance_scenario() {
+  dmbd::sim::Scenario s;
+  s.file = "balance.yaml";
+  s.experiment.type = "balance";
+  s.experiment.number = {{"start_s", 4.0}};
+  s.variants.resize(3);
+  s.variants[0].name = "height";
+  // One starting and ending between the log's samples (found exactly); one pulling back.
+  s.variants[0].forces = {push({0, 2, 0}, 2.005, 2.205, 100.0), push({1, 0, 0}, 6.4, 6.5, -50.0)};
+  s.variants[1].name = "upright";
+  s.variants[1].forces = {push({0, 0, 1}, 8.0, 8.1, 20.0), push({1, 0, 0}, 5.0, 5.1, 30.0)};
+  s.variants[2].name = "tilt";
+  s.variants[2].cooling = dmbd::sim::Cooling::Off;
+  return s;
+}
+
+TEST(SimBalanceExperiment, MetricsOfASyntheticSteppingRun) {
+  // "tilt" logs l_knee.T_winding only: its peak is reported under its cooling (off).
+  const auto res = dmbd::sim::evaluate_experiment(balance_scenario(), {stepping_log("height", Fall::Height, Thermal::Both),
+                                                                       stepping_log("upright", Fall::None, Thermal::Both),
+                                                                       stepping_log("tilt", Fall::Tilt, Thermal::Single)});
+  const auto& m = res.metrics.at("balance");
+  const auto& h = m.at("height");
+  EXPECT_TRUE(h.at("fell").get<bool>());
+  EXPECT_NEAR(h.at("fall_time_s").get<double>(), 9.0, 1e-12);
+  EXPECT_NEAR(h.at("balanced_s").get<double>(), 5.0, 1e-12);
+  EXPECT_EQ(h.at("steps").get<long long>(), 9);  // the touch-down at 9.5 s is after the fall
+  // Misses 0.01 j, j = 1..9: RMS 0.01 sqrt(285 / 9).
+  EXPECT_NEAR(h.at("landing_error_rms_m").get<double>(), 0.01 * std::sqrt(285.0 / 9.0), 1e-12);
+  // Steps (4.5, 5], ..., (8, 8.5]: flips at 4.75, 5.75, 6.25 and 8.0 (the change into
+  // the sample at 8.0 ends the step (7.5, 8]); the 0 at 5.2 s is none: 4 of 8.
+  EXPECT_DOUBLE_EQ(h.at("com_lateral_velocity_reversals").get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(h.at("peak_winding_C").at("cooled").get<double>(), 45.0);
+  EXPECT_DOUBLE_EQ(h.at("peak_winding_C").at("uncooled").get<double>(), 80.0);
+  EXPECT_DOUBLE_EQ(h.at("wbc_tick_us").at("median").get<double>(), 120.0);
+  EXPECT_DOUBLE_EQ(h.at("wbc_tick_us").at("max").get<double>(), 800.0);
+  EXPECT_DOUBLE_EQ(h.at("real_time_factor").get<double>(), 1.5);
+  EXPECT_EQ(h.at("qp_failures").get<long long>(), 2);
+  const auto& hp = h.at("pushes");
+  ASSERT_EQ(hp.size(), 2u);
+  EXPECT_DOUBLE_EQ(hp[0].at("start_s").get<double>(), 2.005);
+  EXPECT_NEAR(hp[0].at("duration_s").get<double>(), 0.2, 1e-12);
+  EXPECT_DOUBLE_EQ(hp[0].at("force_N").get<double>(), 200.0);  // 100 along a direction of length 2
+  EXPECT_EQ(hp[0].at("direction").get<std::vector<double>>(), (std::vector<double>{0, 1, 0}));
+  EXPECT_TRUE(hp[0].at("survived").get<bool>());                // fell 6.8 s after it
+  EXPECT_DOUBLE_EQ(hp[1].at("start_s").get<double>(), 6.4);
+  EXPECT_DOUBLE_EQ(hp[1].at("force_N").get<double>(), 50.0);
+  EXPECT_EQ(hp[1].at("direction").get<std::vector<double>>(), (std::vector<double>{-1, 0, 0}));
+  EXPECT_FALSE(hp[1].at("survived").get<bool>());               // fell 2.5 s after its end (the run went on)
+
+  const auto& u = m.at("upright");
+  EXPECT_FALSE(u.at("fell").get<bool>());
+  EXPECT_FALSE(u.contains("fall_time_s"));
+  EXPECT_NEAR(u.at("balanced_s").get<double>(), 6.0, 1e-12);
+  EXPECT_EQ(u.at("steps").get<long long>(), 10);
+  EXPECT_NEAR(u.at("landing_error_rms_m").get<double>(), std::sqrt((0.0285 + 0.01) / 10.0), 1e-12);
+  EXPECT_DOUBLE_EQ(u.at("com_lateral_velocity_reversals").get<double>(), 5.0 / 9.0);  // and the flip at 9.2 s
+  const auto& up = u.at("pushes");
+  ASSERT_EQ(up.size(), 2u);  // in the order of their start
+  EXPECT_DOUBLE_EQ(up[0].at("start_s").get<double>(), 5.0);
+  EXPECT_TRUE(up[0].at("survived").get<bool>());   // 3 s later is 8.1 s, the run lasts to 10 s
+  EXPECT_DOUBLE_EQ(up[1].at("start_s").get<double>(), 8.0);
+  EXPECT_FALSE(up[1].at("survived").get<bool>());  // the run ends before 11.1 s
+
+  const auto& t = m.at("tilt");
+  EXPECT_TRUE(t.at("fell").get<bool>());
+  EXPECT_NEAR(t.at("fall_time_s").get<double>(), 9.0, 1e-12);
+  EXPECT_FALSE(t.at("peak_winding_C").contains("cooled"));
+  EXPECT_DOUBLE_EQ(t.at("peak_winding_C").at("uncooled").get<double>(), 60.0);
+  EXPECT_TRUE(t.at("pushes").empty());
+  EXPECT_EQ(res.warnings.size(), 2u);  // the two falls
+
+  std::vector<std::string> names;
+  for (const auto& [name, fig] : res.figures) names.push_back(name);
+  EXPECT_EQ(names, (std::vector<std::string>{"balance_com_phase.png", "balance_joints.png", "balance_knee_temperature.png",
+                                             "balance_footsteps.png", "balance_phases.png"}));
+  // Steps 5 and 6 after 4 s highlighted: touch-downs 4 to 5 and 5 to 6 (51 samples each).
+  const auto& phase = res.figures[0].second.axes()[0];
+  ASSERT_EQ(phase.series.size(), 3u);
+  EXPECT_EQ(phase.series[1].label, "step 5");
+  EXPECT_EQ(phase.series[1].x.size(), 51u);
+  EXPECT_DOUBLE_EQ(phase.series[1].x.front(), 0.01 * std::sin(6.0));
+  EXPECT_EQ(phase.series[0].x.size(), 500u);  // 4 s to the fall at 9 s
+  EXPECT_EQ(res.figures[1].second.axes().size(), 2u);  // the left leg's joints only
+}
+
+// No thermal columns: no peak_winding_C and no temperature figure.
+TEST(SimBalanceExperiment, NoThermalColumnsNoTemperature) {
+  auto s = balance_scenario();
+  const auto res = dmbd::sim::evaluate_experiment(s, {stepping_log("height", Fall::Height, Thermal::None)});
+  EXPECT_FALSE(res.metrics.at("balance").at("height").contains("peak_winding_C"));
+  for (const auto& [name, fig] : res.figures) EXPECT_NE(name, "balance_knee_temperature.png");
 }
 
 }  // namespace

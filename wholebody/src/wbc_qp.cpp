@@ -2,6 +2,8 @@
 // storage sized once, and the torques of its solution.
 #include "dmbd/wholebody/wbc_qp.hpp"
 
+#include <algorithm>
+
 #include <cassert>
 
 #include "dmbd/base/error.hpp"
@@ -32,7 +34,10 @@ WbcQp::WbcQp(const Layout& layout, int num_contacts, const WbcQpParams& params)
       tau_(Eigen::VectorXd::Zero(nj_)),
       qdd_(Eigen::VectorXd::Zero(layout.nv)),
       forces_(Eigen::VectorXd::Zero(3 * num_contacts)),
-      full_tau_(Eigen::VectorXd::Zero(layout.nv)) {
+      full_tau_(Eigen::VectorXd::Zero(layout.nv)),
+      limit_(Eigen::VectorXd::Constant(nj_, params.torque_limit_Nm)) {
+  for (int j = 0; j < nj_; ++j)
+    limit_[j] = std::min(limit_[j], layout.joints[static_cast<size_t>(j)].limits.effort_Nm);
   if (layout.base_dofs != kBase) throw InputError("whole-body QP: the robot's base must be floating");
   for (int j = 0; j < nj_; ++j)
     if (layout.joints[static_cast<size_t>(j)].v_index != kBase + j)
@@ -103,9 +108,9 @@ void WbcQp::build_inequalities(const ContactSetting* contacts) {
   C_in_.block(t, 0, nj_, nv_ + 3 * nc_) = joint_rows;
   C_in_.block(t + nj_, 0, nj_, nv_ + 3 * nc_) = -joint_rows;
   b_in_.segment(t, nj_) = -rhs_.tail(nj_);
-  b_in_.segment(t, nj_).array() -= params_.torque_limit_Nm;
+  b_in_.segment(t, nj_) -= limit_;
   b_in_.segment(t + nj_, nj_) = rhs_.tail(nj_);
-  b_in_.segment(t + nj_, nj_).array() -= params_.torque_limit_Nm;
+  b_in_.segment(t + nj_, nj_) -= limit_;
 }
 
 // τ = S_a [A q̈ + b + g − J_cᵀ F].

@@ -15,6 +15,7 @@
 
 #include "dmbd/model/dynamics.hpp"
 #include "dmbd/model/plant.hpp"
+#include "dmbd/sim/balance_controller.hpp"
 #include "dmbd/sim/osc_controller.hpp"
 #include "dmbd/sim/simulation.hpp"
 
@@ -52,6 +53,7 @@ struct RobotSetup {
   std::vector<ReflectedLoad> loads;
   bool contact = false;
   double gravity_m_s2 = 9.81;
+  std::optional<SupportSpec> support;          // a floating base held horizontally until released
   // Where each named entry was written ("file:line:col"), keyed "moving:NAME",
   // "actuators:NAME", "freeze:NAME", "initial:NAME", "lock:NAME", "loads:NAME",
   // "payloads:LINK": mistakes found only when the robot is built are reported there.
@@ -110,6 +112,8 @@ struct VariantSetup {
   Cooling cooling = Cooling::On;
   IntegrationSetup integration;
   std::optional<OscSetup> osc;                 // an operational space controller on the bus (fixed base)
+  std::optional<BalanceSetup> balance;         // the balancing controller on the bus (floating base)
+  std::optional<EndOnFall> end_on_fall;        // end the run once the robot is down (floating base)
 };
 
 struct ExperimentSetup {

@@ -28,6 +28,8 @@
 //   base.x, base.y, base.z   torso origin in world (m)
 //   base.roll, base.pitch, base.yaw   R = Rz(yaw) Ry(pitch) Rx(roll) (rad)
 //   base.tilt                angle of the torso's z axis from the vertical (rad)
+//   base.wx, base.wy, base.wz   torso angular velocity, world axes (rad/s; an ideal gyro)
+//   base.vx, base.vy, base.vz   torso origin velocity, world (m/s)
 // plus every reference (its name) and every controller output (its bus name). Logged
 // only, per actuator: J.force_true (N), J.current_applied (A, after the drive's limit),
 // J.i2t (A^2 s, the integral of the applied current squared since t = 0: exact, the
@@ -40,6 +42,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -84,12 +87,35 @@ struct ForceSpec {
   std::string where = {};  // as ReferenceSpec::where
 };
 
+// A start-up support for a floating base (the authors' balancing simulation held the
+// base until it was released): two points of the base link, its origin and height_m
+// above it on its z axis, each pulled back horizontally to where it was at t = 0 by a
+// spring and damper, until release_s. Horizontal only: the legs carry the weight; the
+// support keeps the torso from tipping or drifting. Updated at every event.
+struct SupportSpec {
+  double release_s = 0.0;
+  double stiffness_N_per_m = 5000.0;
+  double damping_N_s_per_m = 500.0;
+  double height_m = 0.3;
+};
+
+// Ends a floating-base run early, without error, once the robot is down: the torso's
+// origin below torso_below_m or its tilt beyond tilt_above_rad (checked after every
+// plant advance; the log then ends with that instant's row). Simulating a robot lying on
+// the ground (only its feet collide) is meaningless and may diverge.
+struct EndOnFall {
+  double torso_below_m = 0.5;
+  double tilt_above_rad = 1.0;
+};
+
 enum class Cooling { On, Off, Both };
 
 struct SimulationSpec {
   std::vector<ControllerSpec> controllers;
   std::vector<ReferenceSpec> references;
   std::vector<ForceSpec> forces;
+  std::optional<SupportSpec> support;  // floating base only
+  std::optional<EndOnFall> end_on_fall;  // floating base only
   double duration_s = 1;
   double log_rate_hz = 1000;
   bool sensor_noise = false;          // off: exact readings (no quantisation, no noise)

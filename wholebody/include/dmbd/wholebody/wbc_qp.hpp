@@ -36,7 +36,8 @@ struct ContactSetting {
 struct WbcQpParams {
   double mu = 0.3;                   // friction coefficient of the pyramid
   double w_qdd = 100.0;              // weight on Δq̈
-  double torque_limit_Nm = 100.0;    // |τ_j| bound, all joints (the authors' ±100 N m)
+  double torque_limit_Nm = 100.0;    // |τ_j| bound, all joints (the authors' ±100 N m), or the
+                                     // joint's own effort limit (Layout) where that is lower
 };
 
 class WbcQp {
@@ -66,6 +67,7 @@ class WbcQp {
   QpSolver qp_;
   Eigen::MatrixXd G_, C_eq_, C_in_, AJ_;   // AJ_: [A, −J_cᵀ] (nv x (nv + 3 n_c))
   Eigen::VectorXd a_, b_eq_, b_in_, rhs_, tau_, qdd_, forces_, full_tau_;
+  Eigen::VectorXd limit_;  // per joint: min(torque_limit_Nm, the joint's effort limit)
 };
 
 }  // namespace dmbd::wholebody

@@ -1,0 +1,123 @@
+#pragma once
+// The paper's balancing controller (Sec. IV-B, Fig. 7, Fig. 8) as a controller on the bus:
+// unsupported stepping in place by whole-body control and the TVR footstep planner.
+// Every control tick (1 kHz, with its computation delay):
+//   1. state: joint angles and rates, the torso IMU (orientation, angular velocity), and
+//      the base's position and velocity either from the stance foot's kinematics
+//      (KinematicComEstimator) or from "motion capture" (the true values plus noise);
+//   2. phase: wholebody::PhaseMachine (start-up joint move and body lift, then
+//      double support → lift → swing → landing per side, touch-down on the swing ankle's
+//      velocity);
+//   3. footsteps: the TVR planner at the swing's start and once more at mid-swing, the
+//      swing foot on a B-spline (wholebody::SwingTrajectory);
+//   4. prioritised IK from the contact null space (hip yaws → swing ankle → torso roll,
+//      pitch, height → swing foot), giving q_des = q + Δq, q̇_des, q̈_des;
+//   5. joint feedback q̈_cmd = q̈_des + Kp (q_des − q) + Kd (q̇_des − q̇) on the joints;
+//   6. the whole-body QP (wholebody::WbcQp): reaction forces in the friction pyramid,
+//      F_max blended through lift and landing, torque limits → feedforward torques τ_ff.
+//      A QP that fails keeps the last command (counted: balance.qp_failures).
+//   7. a fall (the torso tilted beyond fall_tilt_rad by the IMU) ends the control for good:
+//      every joint is then held where it is with no feedforward (balance.fallen = 1).
+// Its outputs are each joint's targets for that joint's own loop: J.q_des, J.qd_des,
+// J.tau_ff, and for an actuated joint the feedforward actuator force J.force_ff =
+// τ_ff N_l(q) (for joint_impedance_controller.yaml's F_ff).
+//
+// Ports (per joint J of the model, in the model's joint order):
+//   inputs   J.<q_signal>, J.<qd_signal>
+//            base.roll, base.pitch, base.yaw, base.wx, base.wy, base.wz   (the IMU)
+//            base.x, base.y, base.z, base.vx, base.vy, base.vz            (motion capture only)
+//   outputs  J.q_des (rad), J.qd_des (rad/s), J.tau_ff (N m), J.force_ff (N, actuated)
+//            balance.phase (0 joint move, 1 body lift, 2 double support, 3 lift, 4 swing,
+//            5 landing), balance.swing_side (0 left, 1 right), balance.step,
+//            balance.touch_downs, balance.qp_failures, balance.fallen,
+//            balance.com_x/y/z, balance.com_vx/vy (m, m/s: the estimate the controller uses),
+//            balance.foothold_x/y (the current swing's planned foothold),
+//            balance.swing_x/y/z_d (the swing foot's target), balance.stance_x/y (the
+//            stance foot's contact point),
+//            balance.landed_x/y, balance.planned_x/y (at the last touch-down: where the
+//            foot landed and where it was planned to),
+//            balance.fz_l, balance.fz_r (N, the QP's normal forces).
+// Allocation-free step; the wall time of each evaluation is recorded (tick_times_us).
+#include <array>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "dmbd/model/actuator.hpp"
+#include "dmbd/model/robot_description.hpp"
+#include "dmbd/sim/controller.hpp"
+#include "dmbd/wholebody/phase_machine.hpp"
+#include "dmbd/wholebody/swing.hpp"
+#include "dmbd/wholebody/tvr.hpp"
+#include "dmbd/wholebody/wbc_qp.hpp"
+
+namespace dmbd::sim {
+
+enum class BalanceEstimator { Kinematic, MotionCapture };
+
+// Joint-level feedback in the WBC's accelerations (1/s², 1/s) for one joint.
+struct JointFeedback {
+  double kp = 0.0, kd = 0.0;
+};
+
+struct BalanceSetup {
+  // The posture the start-up's joint move goes to (rad; a joint not listed keeps its
+  // initial angle) and the torso height the body lift reaches and stepping keeps (m).
+  std::vector<std::pair<std::string, double>> stance_posture;
+  double torso_height_m = 1.0;
+  double swing_ankle_rad = -0.17;  // the swing ankle's flexion target (the paper's 80°)
+  wholebody::PhaseMachineParams phases;
+  wholebody::TvrParams tvr;
+  wholebody::SwingParams swing;
+  wholebody::WbcQpParams qp;
+  // Per joint name (a joint not listed: 0, 0); the authors' [80, 170, 170, 170, 5] and
+  // [3, 8, 8, 3, 0] per leg by default (balance_controller.cpp).
+  std::vector<std::pair<std::string, JointFeedback>> joint_feedback;
+  // DRACO's names: the torso, the feet and the joints the tasks name.
+  std::string torso_link = "torso";
+  std::array<std::string, 2> foot_link{"l_foot", "r_foot"};
+  std::array<std::string, 2> hip_yaw{"l_hip_yaw", "r_hip_yaw"};
+  std::array<std::string, 2> ankle{"l_ankle", "r_ankle"};
+  double fall_tilt_rad = 0.5;   // the torso's tilt from the vertical that counts as a fall
+  double rate_hz = 1000;
+  double delay_s = 0.0;
+  std::string q_signal = "q", qd_signal = "qd";
+  BalanceEstimator estimator = BalanceEstimator::Kinematic;
+  double mocap_position_noise_m = 0.001;     // standard deviations of the motion capture
+  double mocap_velocity_noise_m_s = 0.005;
+  unsigned long long seed = 1;
+  std::string where;  // "file:line:col" of the balance map
+};
+
+class BalanceController : public Controller {
+ public:
+  // robot: the robot as simulated (floating base); q0: the joint angles at t = 0 by
+  // name; actuators: those of the plant (their linkages). max_ticks: tick times kept.
+  // Throws InputError (at setup.where) for an unknown link or joint.
+  BalanceController(const model::RobotDescription& robot, double gravity_m_s2,
+                    const std::vector<model::ActuatorParams>& actuators,
+                    const std::vector<std::pair<std::string, double>>& q0, const BalanceSetup& setup,
+                    long long max_ticks);
+  ~BalanceController() override;
+
+  double rate_hz() const override;
+  int num_inputs() const override;
+  int num_outputs() const override;
+  std::string input_name(int k) const override;
+  std::string output_name(int k) const override;
+  std::string output_unit(int k) const override;
+  void step(const double* u, double* y) override;
+
+  const std::vector<double>& tick_times_us() const;
+  long long qp_failures() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dmbd::sim

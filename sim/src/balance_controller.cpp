@@ -1,0 +1,230 @@
+// BalanceController: construction, ports and the tick (balance_controller.hpp).
+#include <chrono>
+#include <cmath>
+
+#include "balance_impl.hpp"
+#include "dmbd/base/error.hpp"
+
+namespace dmbd::sim {
+
+namespace {
+
+model::DynamicsOptions floating(double gravity) {
+  model::DynamicsOptions o;
+  o.base = model::BaseMode::Floating;
+  o.gravity_m_s2 = gravity;
+  return o;
+}
+
+// The centre of a link's collision spheres: the point contact the controller assumes
+// (one per foot, at the foot's centre, as the authors' controller).
+Eigen::Vector3d collision_centre(const model::RobotDescription& r, const std::string& link, const std::string& where) {
+  const int l = r.link_index(link);
+  if (l < 0) throw InputError(where + ": balance: the robot has no link '" + link + "'");
+  const auto& shapes = r.links[static_cast<size_t>(l)].collisions;
+  if (shapes.empty()) throw InputError(where + ": balance: link '" + link + "' has no collision geometry to stand on");
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& s : shapes) c += s.X_LG.translation();
+  return c / static_cast<double>(shapes.size());
+}
+
+// The authors' joint feedback per leg joint (draco-facts.md, "Joint-level feedback in WBC").
+JointFeedback default_feedback(const std::string& joint) {
+  auto ends = [&](const char* s) {
+    const std::string t(s);
+    return joint.size() >= t.size() && joint.compare(joint.size() - t.size(), t.size(), t) == 0;
+  };
+  if (ends("hip_yaw")) return {80, 3};
+  if (ends("hip_roll") || ends("hip_pitch")) return {170, 8};
+  if (ends("knee")) return {170, 3};
+  if (ends("ankle")) return {5, 0};
+  return {};
+}
+
+}  // namespace
+
+BalanceController::Impl::Impl(const model::RobotDescription& robot, double gravity, const BalanceSetup& s)
+    : setup(s),
+      model(robot, floating(gravity)),
+      estimator(robot, {s.foot_link[0], collision_centre(robot, s.foot_link[0], s.where)},
+                {s.foot_link[1], collision_centre(robot, s.foot_link[1], s.where)}),
+      rng(s.seed),
+      phases(s.phases),
+      tvr(s.tvr),
+      swing(s.swing) {}
+
+void BalanceController::Impl::find_frames_and_joints(const model::RobotDescription& robot) {
+  const wholebody::Layout& l = model.layout();
+  auto joint = [&](const std::string& name) {
+    const int j = l.joint_index(name);
+    if (j < 0) throw InputError(setup.where + ": balance: the robot has no joint '" + name + "'");
+    return j;
+  };
+  for (int s = 0; s < 2; ++s) {
+    foot_frame[static_cast<size_t>(s)] =
+        model.add_frame({setup.foot_link[static_cast<size_t>(s)], collision_centre(robot, setup.foot_link[static_cast<size_t>(s)], setup.where)});
+    ankle[static_cast<size_t>(s)] = joint(setup.ankle[static_cast<size_t>(s)]);
+    hip_yaw[static_cast<size_t>(s)] = joint(setup.hip_yaw[static_cast<size_t>(s)]);
+  }
+  if (robot.link_index(setup.torso_link) < 0) throw InputError(setup.where + ": balance: the robot has no link '" + setup.torso_link + "'");
+  torso_frame = model.add_frame({setup.torso_link, Eigen::Vector3d::Zero()});
+  nj = static_cast<int>(l.joints.size());
+  for (const auto& [name, angle] : setup.stance_posture) joint(name);
+  for (const auto& [name, g] : setup.joint_feedback) joint(name);
+}
+
+// The tasks of every phase and the two IK problems (both feet, or the stance foot alone),
+// then the QP. The IK's tasks carry no gains (the authors'): their errors become Δq and
+// the feedback is the joint-level one (q̈_cmd).
+void BalanceController::Impl::make_tasks() {
+  const wholebody::Layout& l = model.layout();
+  const int nv = l.nv;
+  hip_yaws = std::make_unique<wholebody::PostureTask>(l, std::vector<int>{hip_yaw[0], hip_yaw[1]});
+  std::vector<int> every(static_cast<size_t>(nj));
+  for (int j = 0; j < nj; ++j) every[static_cast<size_t>(j)] = j;
+  all_joints = std::make_unique<wholebody::PostureTask>(l, every);
+  for (int s = 0; s < 2; ++s) {
+    swing_ankle[static_cast<size_t>(s)] = std::make_unique<wholebody::PostureTask>(l, std::vector<int>{ankle[static_cast<size_t>(s)]});
+    swing_foot[static_cast<size_t>(s)] = std::make_unique<wholebody::PointTask>(foot_frame[static_cast<size_t>(s)], nv);
+  }
+  torso_orientation = std::make_unique<wholebody::OrientationTask>(torso_frame, nv);
+  torso_position = std::make_unique<wholebody::PointTask>(torso_frame, nv);
+  torso = std::make_unique<wholebody::SelectionTask>(
+      std::vector<std::pair<wholebody::Task*, int>>{{torso_orientation.get(), 0}, {torso_orientation.get(), 1}, {torso_position.get(), 2}}, nv);
+  ik_double = std::make_unique<wholebody::PrioritizedIk>(nv, 6, std::vector<int>{2, 3});
+  ik_single = std::make_unique<wholebody::PrioritizedIk>(nv, 3, std::vector<int>{2, 1, 3, 3});
+  qp = std::make_unique<wholebody::WbcQp>(l, 2, setup.qp);
+}
+
+void BalanceController::Impl::bind_actuators(const std::vector<model::ActuatorParams>& actuators) {
+  for (const auto& j : model.layout().joints) {
+    std::optional<model::LinkageGeometry> g;
+    for (const auto& a : actuators)
+      if (a.joint == j.name) g = a.linkage;
+    linkage.push_back(g);
+  }
+}
+
+void BalanceController::Impl::set_gains() {
+  kp = kd = Eigen::VectorXd::Zero(nj);
+  for (int j = 0; j < nj; ++j) {
+    JointFeedback f = default_feedback(model.layout().joints[static_cast<size_t>(j)].name);
+    for (const auto& [name, g] : setup.joint_feedback)
+      if (name == model.layout().joints[static_cast<size_t>(j)].name) f = g;
+    kp[j] = f.kp;
+    kd[j] = f.kd;
+  }
+}
+
+void BalanceController::Impl::name_ports() {
+  const auto& joints = model.layout().joints;
+  for (const auto& j : joints) {
+    in_names.push_back(j.name + "." + setup.q_signal);
+    in_names.push_back(j.name + "." + setup.qd_signal);
+  }
+  for (const char* n : {"roll", "pitch", "yaw", "wx", "wy", "wz"}) in_names.push_back(std::string("base.") + n);
+  if (setup.estimator == BalanceEstimator::MotionCapture)
+    for (const char* n : {"x", "y", "z", "vx", "vy", "vz"}) in_names.push_back(std::string("base.") + n);
+  auto out = [&](const std::string& n, const char* unit) {
+    out_names.push_back(n);
+    out_units.emplace_back(unit);
+  };
+  for (const auto& j : joints) out(j.name + ".q_des", "rad");
+  for (const auto& j : joints) out(j.name + ".qd_des", "rad/s");
+  for (const auto& j : joints) out(j.name + ".tau_ff", "N m");
+  for (int k = 0; k < nj; ++k)
+    if (linkage[static_cast<size_t>(k)]) out(joints[static_cast<size_t>(k)].name + ".force_ff", "N");
+  for (const char* n : {"phase", "swing_side", "step", "touch_downs", "qp_failures", "fallen"}) out(std::string("balance.") + n, "");
+  for (const char* n : {"com_x", "com_y", "com_z"}) out(std::string("balance.") + n, "m");
+  for (const char* n : {"com_vx", "com_vy"}) out(std::string("balance.") + n, "m/s");
+  for (const char* n : {"foothold_x", "foothold_y", "swing_x_d", "swing_y_d", "swing_z_d", "stance_x", "stance_y", "landed_x",
+                        "landed_y", "planned_x", "planned_y"})
+    out(std::string("balance.") + n, "m");
+  for (const char* n : {"fz_l", "fz_r"}) out(std::string("balance.") + n, "N");
+}
+
+void BalanceController::Impl::start_at(const std::vector<std::pair<std::string, double>>& q0, long long max_ticks) {
+  const wholebody::Layout& l = model.layout();
+  data = model.make_data();
+  joint_q = joint_v = Eigen::VectorXd::Zero(nj);
+  q = model.dynamics().neutral_configuration();
+  v = qdd_cmd = Eigen::VectorXd::Zero(l.nv);
+  q_des = qd_des = tau_ff = move_start_q = stance_q = last_q_des = last_qd_des = Eigen::VectorXd::Zero(nj);
+  for (const auto& [name, angle] : q0)
+    if (const int j = l.joint_index(name); j >= 0) q_des[j] = stance_q[j] = angle;
+  for (const auto& [name, angle] : setup.stance_posture) stance_q[l.joint_index(name)] = angle;
+  J_double = Eigen::MatrixXd::Zero(6, l.nv);
+  J_single = Eigen::MatrixXd::Zero(3, l.nv);
+  Jdv_double = Eigen::VectorXd::Zero(6);
+  Jdv_single = Eigen::VectorXd::Zero(3);
+  tick_us.reserve(static_cast<size_t>(std::max(max_ticks, 1LL)));
+}
+
+BalanceController::BalanceController(const model::RobotDescription& robot, double gravity_m_s2,
+                                     const std::vector<model::ActuatorParams>& actuators,
+                                     const std::vector<std::pair<std::string, double>>& q0, const BalanceSetup& setup,
+                                     long long max_ticks)
+    : impl_(std::make_unique<Impl>(robot, gravity_m_s2, setup)) {
+  impl_->find_frames_and_joints(robot);
+  impl_->make_tasks();
+  impl_->bind_actuators(actuators);
+  impl_->set_gains();
+  impl_->name_ports();
+  impl_->start_at(q0, max_ticks);
+}
+
+BalanceController::~BalanceController() = default;
+
+double BalanceController::rate_hz() const { return impl_->setup.rate_hz; }
+int BalanceController::num_inputs() const { return static_cast<int>(impl_->in_names.size()); }
+int BalanceController::num_outputs() const { return static_cast<int>(impl_->out_names.size()); }
+std::string BalanceController::input_name(int k) const { return impl_->in_names[static_cast<size_t>(k)]; }
+std::string BalanceController::output_name(int k) const { return impl_->out_names[static_cast<size_t>(k)]; }
+std::string BalanceController::output_unit(int k) const { return impl_->out_units[static_cast<size_t>(k)]; }
+const std::vector<double>& BalanceController::tick_times_us() const { return impl_->tick_us; }
+long long BalanceController::qp_failures() const { return impl_->qp_failures; }
+
+// One tick: state, phase, events, whole-body control, outputs. On a failed QP the last
+// command (targets and torques) is kept.
+void BalanceController::step(const double* u, double* y) {
+  Impl& m = *impl_;
+  const auto start = std::chrono::steady_clock::now();
+  m.read_state(u);
+  const double dt = m.tick == 0 ? 0.0 : 1.0 / m.setup.rate_hz;
+  const wholebody::PhaseInfo& ph =
+      m.phases.update(dt, m.joint_v[m.ankle[0]], m.joint_v[m.ankle[1]]);
+  m.on_events(ph);
+  m.fallen = m.fallen || m.tilt > m.setup.fall_tilt_rad;
+  if (m.fallen) {
+    m.q_des = m.joint_q;  // hold still where it lies, no feedforward
+    m.qd_des.setZero();
+    m.tau_ff.setZero();
+  } else if (!m.whole_body(ph)) {
+    ++m.qp_failures;
+  }
+  m.write_outputs(ph, y);
+  ++m.tick;
+  if (m.tick_us.size() < m.tick_us.capacity())
+    m.tick_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
+}
+
+void BalanceController::Impl::write_outputs(const wholebody::PhaseInfo& ph, double* y) const {
+  int o = 0;
+  for (int j = 0; j < nj; ++j) y[o++] = q_des[j];
+  for (int j = 0; j < nj; ++j) y[o++] = qd_des[j];
+  for (int j = 0; j < nj; ++j) y[o++] = tau_ff[j];
+  for (int j = 0; j < nj; ++j)
+    if (const auto& g = linkage[static_cast<size_t>(j)]) y[o++] = tau_ff[j] * g->N_l(joint_q[j]);
+  const wholebody::SwingSample s = swing.at(ph.phase == wholebody::Phase::Swing ? ph.time_in_phase_s : 0.0);
+  const Eigen::Vector3d stance = foot_point(wholebody::other(ph.swing_side));
+  const Eigen::Vector3d com_v = data.J_com * v;
+  const double values[] = {static_cast<double>(static_cast<int>(ph.phase)), static_cast<double>(static_cast<int>(ph.swing_side)),
+                           static_cast<double>(ph.step), static_cast<double>(ph.touch_downs), static_cast<double>(qp_failures), fallen ? 1.0 : 0.0,
+                           data.com.x(), data.com.y(), data.com.z(), com_v.x(), com_v.y(),
+                           foothold.x(), foothold.y(), s.position_m.x(), s.position_m.y(), s.position_m.z(),
+                           stance.x(), stance.y(), landed.x(), landed.y(), planned.x(), planned.y(),
+                           qp->forces()[2], qp->forces()[5]};
+  for (double x : values) y[o++] = x;
+}
+
+}  // namespace dmbd::sim

@@ -1,0 +1,130 @@
+// BalanceController: the whole-body control of one tick (balance_controller.hpp, steps
+// 4–6): the phase's tasks, the prioritised IK, joint feedback, the QP.
+#include <algorithm>
+#include <cmath>
+
+#include "balance_impl.hpp"
+
+namespace dmbd::sim {
+
+using wholebody::Phase;
+
+namespace {
+
+// Minimum-jerk blend from a to b over T: value, rate and acceleration at t.
+struct Blend {
+  double p, v, a;
+};
+Blend min_jerk(double a, double b, double t, double T) {
+  const double u = std::clamp(t / T, 0.0, 1.0);
+  const double s = u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+  const double ds = t < T ? 30.0 * u * u * (1.0 - u) * (1.0 - u) / T : 0.0;
+  const double dds = t < T ? 60.0 * u * (1.0 - u) * (1.0 - 2.0 * u) / (T * T) : 0.0;
+  return {a + (b - a) * s, (b - a) * ds, (b - a) * dds};
+}
+
+wholebody::ContactSetting setting(const wholebody::FootContact& f) {
+  return {f.values.max_normal_force_N, f.values.tangential_force_weight, f.values.normal_force_weight, f.values.slack_weight};
+}
+
+}  // namespace
+
+// Start-up joint move: every joint on a minimum-jerk path to the stance posture, the
+// base's accelerations left to the QP.
+void BalanceController::Impl::joint_move(const wholebody::PhaseInfo& ph) {
+  const wholebody::Layout& l = model.layout();
+  qdd_cmd.setZero();
+  for (int j = 0; j < nj; ++j) {
+    const Blend b = min_jerk(move_start_q[j], stance_q[j], ph.time_in_phase_s, ph.phase_duration_s);
+    q_des[j] = b.p;
+    qd_des[j] = b.v;
+    qdd_cmd[l.joints[static_cast<size_t>(j)].v_index] = b.a;
+  }
+}
+
+// Torso: roll and pitch 0 (about its current heading), height to torso_height_m
+// (a minimum-jerk rise through the body lift).
+void BalanceController::Impl::set_torso_reference(const wholebody::PhaseInfo& ph) {
+  const Eigen::Isometry3d& X = data.frames[static_cast<size_t>(torso_frame)].X_WF;
+  const double yaw = std::atan2(X.linear()(1, 0), X.linear()(0, 0));
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  torso_orientation->set_reference(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix(), zero, zero);
+  Blend h{setup.torso_height_m, 0.0, 0.0};
+  if (ph.phase == Phase::BodyLift) h = min_jerk(lift_start_height, setup.torso_height_m, ph.time_in_phase_s, ph.phase_duration_s);
+  torso_position->set_reference(Eigen::Vector3d(X.translation().x(), X.translation().y(), h.p), Eigen::Vector3d(0, 0, h.v),
+                                Eigen::Vector3d(0, 0, h.a));
+}
+
+// The IK of the phase: both feet in contact except in the swing (then the stance foot,
+// and the swing ankle and foot as tasks).
+void BalanceController::Impl::solve_ik(const wholebody::PhaseInfo& ph) {
+  const wholebody::Layout& l = model.layout();
+  const Eigen::Vector2d yaw_d(stance_q[hip_yaw[0]], stance_q[hip_yaw[1]]);
+  const Eigen::Vector2d zero = Eigen::Vector2d::Zero();  // named: a Ref to an expression would allocate
+  hip_yaws->set_reference(yaw_d, zero, zero);
+  set_torso_reference(ph);
+  hip_yaws->update(data);
+  torso->update(data);
+  const wholebody::PrioritizedIk* ik = ik_double.get();
+  if (ph.phase != Phase::Swing) {
+    const wholebody::Task* tasks[] = {hip_yaws.get(), torso.get()};
+    ik_double->solve(data, J_double, Jdv_double, tasks);
+  } else {
+    const auto sw = static_cast<size_t>(ph.swing_side);
+    const auto st = static_cast<size_t>(wholebody::other(ph.swing_side));
+    J_single = data.frames[static_cast<size_t>(foot_frame[st])].J.bottomRows<3>();
+    Jdv_single = data.frames[static_cast<size_t>(foot_frame[st])].Jdot_v.tail<3>();
+    const Blend a = min_jerk(swing_ankle_start, setup.swing_ankle_rad, ph.time_in_phase_s, 0.5 * ph.phase_duration_s);
+    Eigen::Matrix<double, 1, 1> ad, vd, dd;
+    ad << a.p;
+    vd << a.v;
+    dd << a.a;
+    swing_ankle[sw]->set_reference(ad, vd, dd);
+    const wholebody::SwingSample s = swing.at(ph.time_in_phase_s);
+    swing_foot[sw]->set_reference(s.position_m, s.velocity_m_s, s.acceleration_m_s2);
+    swing_ankle[sw]->update(data);
+    swing_foot[sw]->update(data);
+    const wholebody::Task* tasks[] = {hip_yaws.get(), swing_ankle[sw].get(), torso.get(), swing_foot[sw].get()};
+    ik_single->solve(data, J_single, Jdv_single, tasks);
+    ik = ik_single.get();
+  }
+  qdd_cmd = ik->qdd();
+  for (int j = 0; j < nj; ++j) {
+    const int i = l.joints[static_cast<size_t>(j)].v_index;
+    q_des[j] = joint_q[j] + ik->delta_q()[i];
+    qd_des[j] = ik->qd()[i];
+  }
+}
+
+// q̈_cmd's joint rows get the joint feedback; then the QP with the phase's contact values.
+bool BalanceController::Impl::solve_qp(const wholebody::PhaseInfo& ph) {
+  const wholebody::Layout& l = model.layout();
+  for (int j = 0; j < nj; ++j) {
+    const int i = l.joints[static_cast<size_t>(j)].v_index;
+    qdd_cmd[i] += kp[j] * (q_des[j] - joint_q[j]) + kd[j] * (qd_des[j] - joint_v[j]);
+  }
+  const wholebody::ContactSetting contacts[2] = {setting(ph.foot(Side::Left)), setting(ph.foot(Side::Right))};
+  if (qp->solve(data, J_double, Jdv_double, qdd_cmd, contacts) != wholebody::QpStatus::Optimal) return false;
+  for (int j = 0; j < nj; ++j) tau_ff[j] = qp->tau()[j];
+  return true;
+}
+
+bool BalanceController::Impl::whole_body(const wholebody::PhaseInfo& ph) {
+  for (int s = 0; s < 2; ++s) {
+    const auto& f = data.frames[static_cast<size_t>(foot_frame[static_cast<size_t>(s)])];
+    J_double.middleRows<3>(3 * s) = f.J.bottomRows<3>();
+    Jdv_double.segment<3>(3 * s) = f.Jdot_v.tail<3>();
+  }
+  last_q_des = q_des;
+  last_qd_des = qd_des;
+  if (ph.phase == Phase::JointMove)
+    joint_move(ph);
+  else
+    solve_ik(ph);
+  if (solve_qp(ph)) return true;
+  q_des = last_q_des;  // hold the last command
+  qd_des = last_qd_des;
+  return false;
+}
+
+}  // namespace dmbd::sim
