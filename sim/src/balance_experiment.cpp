@@ -11,7 +11,10 @@
 //                                     (before the fall) in which balance.com_vy changes sign
 //   peak_winding_C {cooled, uncooled} largest knee winding temperature (both knees)
 //   wbc_tick_us {median, max}, real_time_factor, qp_failures (the last count)
-//   pushes [{start_s, duration_s, force_N, direction, survived}]  the scenario's forces
+//   pushes [{start_s, duration_s, force_N, direction, survived}]  each interval a force's
+//                                     source is nonzero, up to the variant's duration; force
+//                                     at its peak (unit direction); survived: no fall within
+//                                     3 s of its end and the run lasted that long
 // Figures: balance_com_phase.png (Fig. 7c), balance_joints.png (Fig. 7d),
 // balance_knee_temperature.png, balance_footsteps.png and balance_phases.png.
 #include <algorithm>
@@ -119,6 +122,8 @@ void winding_metrics(const VariantResult& r, Cooling cooling, nlohmann::json& m)
 }
 
 // ---------------------------------------------------------------- pushes
+// The scenario's pushes up to the variant's duration, also those a run ended (by a fall)
+// before reaching: they were not survived.
 struct Push {
   double start_s, end_s, peak_N = 0;
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // of the force at its peak, unit
@@ -132,23 +137,24 @@ void switch_times(const Source& s, std::vector<double>& out) {
 }
 
 // The times a source is read at: the log's samples and the source's own switching times
-// inside the run (a step's exact start and end however coarse the log).
-std::vector<double> push_grid(const std::vector<double>& t, const Source& s) {
-  std::vector<double> g = t, extra;
+// up to t_end (a step's exact start and end however coarse the log, and the pushes of a
+// run that ended early), and t_end.
+std::vector<double> push_grid(const std::vector<double>& t, const Source& s, double t_end) {
+  std::vector<double> g = t, extra{t_end};
   switch_times(s, extra);
   for (double x : extra)
-    if (x > t.front() && x < t.back()) g.push_back(x);
+    if (x > t.front() && x <= t_end) g.push_back(x);
   std::sort(g.begin(), g.end());
   g.erase(std::unique(g.begin(), g.end()), g.end());
   return g;
 }
 
-// Each interval over which the force's source is nonzero (one still on at the end of the
-// run ends there).
-void find_pushes(const ForceSpec& f, const std::vector<double>& t, std::vector<Push>& out) {
+// Each interval up to t_end over which the force's source is nonzero (one still on at
+// t_end ends there).
+void find_pushes(const ForceSpec& f, const std::vector<double>& t, double t_end, std::vector<Push>& out) {
   const double scale = f.direction_W.norm();
   if (scale == 0 || t.empty()) return;
-  const auto g = push_grid(t, f.source);
+  const auto g = push_grid(t, f.source, t_end);
   bool on = false;
   for (double x : g) {
     const double v = f.source.value(x);
@@ -168,7 +174,7 @@ void find_pushes(const ForceSpec& f, const std::vector<double>& t, std::vector<P
 
 nlohmann::json push_metrics(const Run& run, const VariantSetup& v) {
   std::vector<Push> pushes;
-  for (const auto& f : v.forces) find_pushes(f, run.t, pushes);
+  for (const auto& f : v.forces) find_pushes(f, run.t, std::max(run.t.back(), v.duration_s), pushes);
   std::sort(pushes.begin(), pushes.end(), [](const Push& a, const Push& b) { return a.start_s < b.start_s; });
   nlohmann::json out = nlohmann::json::array();
   for (const auto& p : pushes) {
@@ -276,6 +282,7 @@ plot::Figure joints_figure(const std::vector<Run>& runs, const std::string& leg,
   fig.title = "Joint positions of the leg, desired (dashed) and measured (paper Fig. 7d)";
   for (std::size_t j = 0; j < joints.size(); ++j) {
     auto& a = stacked_axes(fig, joints[j] + " (rad)", j + 1 == joints.size());
+    a.legend = j == 0;
     for (std::size_t i = 0; i < runs.size(); ++i) {
       const auto& r = runs[i].r;
       const std::string prefix = runs.size() > 1 ? r.name + " " : "";
@@ -350,6 +357,7 @@ plot::Figure phases_figure(const std::vector<Run>& runs, const Params& p, const 
                       {"base.tilt", "Tilt (rad)", p.fall_tilt_rad}};
   for (const auto& row : rows) {
     auto& a = stacked_axes(fig, row.label, &row == &rows[3]);
+    a.legend = &row == &rows[0];
     a.v_lines = {p.start_s};
     a.v_line_labels = {"stepping"};
     if (!std::isnan(row.limit)) {
@@ -387,7 +395,7 @@ ExperimentResult balance(const Scenario& s, const std::vector<VariantResult>& ru
     const Run& run = analysed.back();
     if (run.t.back() < p.start_s)
       res.warnings.push_back(fmt::format("variant '{}': the run ends before stepping starts ({} s)", r.name, p.start_s));
-    if (run.fell()) res.warnings.push_back(fmt::format("variant '{}' fell at t = {} s", r.name, run.end_s()));
+    if (run.fell()) res.warnings.push_back(fmt::format("variant '{}' fell at t = {:.3f} s", r.name, run.end_s()));
     run_metrics(run, p, setup_of(s, r.name), s.file, res.metrics["balance"][r.name]);
   }
   add_figures(analysed, p, s.file, res);

@@ -283,6 +283,8 @@ dmbd::sim::Scenario balance_scenario() {
   s.variants[1].forces = {push({0, 0, 1}, 8.0, 8.1, 20.0), push({1, 0, 0}, 5.0, 5.1, 30.0)};
   s.variants[2].name = "tilt";
   s.variants[2].cooling = dmbd::sim::Cooling::Off;
+  s.variants[2].duration_s = 30;  // a push after the run's end (it fell): listed, not survived
+  s.variants[2].forces = {push({1, 0, 0}, 12.0, 12.2, 40.0)};
   return s;
 }
 
@@ -339,7 +341,11 @@ TEST(SimBalanceExperiment, MetricsOfASyntheticSteppingRun) {
   EXPECT_NEAR(t.at("fall_time_s").get<double>(), 9.0, 1e-12);
   EXPECT_FALSE(t.at("peak_winding_C").contains("cooled"));
   EXPECT_DOUBLE_EQ(t.at("peak_winding_C").at("uncooled").get<double>(), 60.0);
-  EXPECT_TRUE(t.at("pushes").empty());
+  ASSERT_EQ(t.at("pushes").size(), 1u);
+  EXPECT_DOUBLE_EQ(t.at("pushes")[0].at("start_s").get<double>(), 12.0);
+  EXPECT_NEAR(t.at("pushes")[0].at("duration_s").get<double>(), 0.2, 1e-12);
+  EXPECT_DOUBLE_EQ(t.at("pushes")[0].at("force_N").get<double>(), 40.0);
+  EXPECT_FALSE(t.at("pushes")[0].at("survived").get<bool>());
   EXPECT_EQ(res.warnings.size(), 2u);  // the two falls
 
   std::vector<std::string> names;
