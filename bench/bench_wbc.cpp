@@ -2,10 +2,15 @@
 // wbc_tick_us ≤ 200 µs): the model's terms with three frames, the prioritised IK of the
 // double-support phase from the two feet's contact null space (hip yaws → torso
 // orientation → torso position), and the whole-body QP (28 variables, 12 equalities,
-// 32 inequalities). Anchor in the same run: the model's terms alone.
+// 32 inequalities). Anchor in the same run: the model's terms alone. And the whole
+// controller tick (sim::BalanceController::step: state, phase, events, IK, QP, outputs)
+// in double support and in the swing, with the motion-capture and the kinematic
+// estimators (the latter updates a second model: the estimator's).
 #include <benchmark/benchmark.h>
 
 #include "dmbd/model/robot_description.hpp"
+#include "dmbd/model/actuator.hpp"
+#include "dmbd/sim/balance_controller.hpp"
 #include "dmbd/sim/dynamics_model.hpp"
 #include "dmbd/wholebody/prioritized_ik.hpp"
 #include "dmbd/wholebody/task.hpp"
@@ -77,6 +82,47 @@ void BM_WbcModelTermsOnly(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_WbcModelTermsOnly);
+
+// The controller fed a still robot in its stance posture, advanced to the phase asked
+// for (range 0: double support, at the first step's start; 1: mid-swing), then ticked
+// there (each tick advances the phase machine; the range keeps it in that phase by
+// starting over when it leaves).
+void BM_BalanceTick(benchmark::State& state) {
+  const model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
+  sim::BalanceSetup setup;
+  setup.estimator = state.range(1) ? sim::BalanceEstimator::Kinematic : sim::BalanceEstimator::MotionCapture;
+  setup.phases.joint_move_s = setup.phases.body_lift_s = 0.05;
+  setup.phases.body_lift_start_force_N = 300;
+  const bool swing = state.range(0) == 1;
+  if (!swing) setup.phases.double_support_s = 1e6;  // stays in double support
+  const std::vector<std::pair<std::string, double>> q0 = {
+      {"l_hip_pitch", -0.9}, {"l_knee", 1.7}, {"l_ankle", -0.8}, {"r_hip_pitch", -0.9}, {"r_knee", 1.7}, {"r_ankle", -0.8}};
+  auto make = [&] {
+    auto c = std::make_unique<sim::BalanceController>(robot, 9.81, model::draco_actuators(), q0, setup, 1);
+    return c;
+  };
+  std::unique_ptr<sim::BalanceController> c = make();
+  std::vector<double> u(static_cast<size_t>(c->num_inputs()), 0.0), y(static_cast<size_t>(c->num_outputs()), 0.0);
+  for (int k = 0; k < c->num_inputs(); ++k)
+    for (const auto& [joint, angle] : q0)
+      if (c->input_name(k) == joint + ".q") u[static_cast<size_t>(k)] = angle;
+  // Ticks to the phase: 100 of start-up, then 10 DS, 30 lift, 165 into the swing.
+  const int warm_up = swing ? 100 + 10 + 30 + 100 : 120;
+  for (int k = 0; k < warm_up; ++k) c->step(u.data(), y.data());
+  int ticks = 0;
+  for (auto _ : state) {
+    c->step(u.data(), y.data());
+    benchmark::DoNotOptimize(y.data());
+    if (swing && ++ticks == 200) {  // before the swing ends: back to its start
+      state.PauseTiming();
+      c = make();
+      for (int k = 0; k < warm_up; ++k) c->step(u.data(), y.data());
+      ticks = 0;
+      state.ResumeTiming();
+    }
+  }
+}
+BENCHMARK(BM_BalanceTick)->ArgNames({"swing", "kinematic"})->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1});
 
 }  // namespace
 

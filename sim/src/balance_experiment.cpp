@@ -35,6 +35,7 @@ namespace dmbd::sim {
 namespace {
 
 using detail::signal;
+using detail::stacked_axes;
 
 constexpr double kSurviveAfterPushS = 3.0;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -217,16 +218,6 @@ void run_metrics(const Run& run, const Params& p, const VariantSetup& v, const s
 }
 
 // ---------------------------------------------------------------- figures
-// The next of a figure's stacked axes, labelled y_label; only the last one shows the
-// x labels (x_label, default time).
-plot::Axes& stacked_axes(plot::Figure& fig, const std::string& y_label, bool last, const std::string& x_label = "Time (s)") {
-  auto& a = fig.axes().emplace_back();
-  a.y_label = y_label;
-  a.x_tick_labels = last;
-  if (last) a.x_label = x_label;
-  return a;
-}
-
 plot::Series part(const std::string& label, const std::vector<double>& x, const std::vector<double>& y, std::size_t from,
                   std::size_t to, plot::Color color, double width = 2.0) {
   plot::Series s{label, {}, {}, color, width};

@@ -1,9 +1,11 @@
 #pragma once
-// Helpers shared by the experiment analyses (experiments.cpp, sysid_experiment.cpp).
+// Helpers shared by the experiment analyses (experiments.cpp, sysid_experiment.cpp,
+// osc_experiment.cpp, balance_experiment.cpp).
 #include <string>
 #include <vector>
 
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/sim/experiments.hpp"
 #include "dmbd/sim/scenario.hpp"
 
 namespace dmbd::sim::detail {
@@ -22,6 +24,16 @@ inline std::string text_or(const ExperimentSetup& e, const std::string& key, con
 inline double number_or(const ExperimentSetup& e, const std::string& key, double fallback) {
   const auto it = e.number.find(key);
   return it == e.number.end() ? fallback : it->second;
+}
+
+// The next of a figure's stacked axes sharing one x axis, labelled y_label; only the
+// last one shows the x labels.
+inline plot::Axes& stacked_axes(plot::Figure& fig, const std::string& y_label, bool last, const std::string& x_label = "Time (s)") {
+  auto& a = fig.axes().emplace_back();
+  a.y_label = y_label;
+  a.x_tick_labels = last;
+  if (last) a.x_label = x_label;
+  return a;
 }
 
 }  // namespace dmbd::sim::detail

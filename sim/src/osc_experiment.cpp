@@ -23,6 +23,7 @@ namespace dmbd::sim {
 namespace {
 
 using detail::signal;
+using detail::stacked_axes;
 
 struct Window {
   const std::vector<double>& t;
@@ -33,16 +34,6 @@ struct Window {
 // RMS of a − b over the window (experiments.hpp's rms_error from t0 on).
 double rms(const Window& w, const std::vector<double>& a, const std::vector<double>& b) {
   return rms_error(w.t, a, b, w.t0, std::numeric_limits<double>::infinity());
-}
-
-// The next of a figure's stacked axes sharing one time axis, labelled y_label; only the
-// last one shows the time labels.
-plot::Axes& stacked_axes(plot::Figure& fig, const std::string& y_label, bool last) {
-  auto& a = fig.axes().emplace_back();
-  a.y_label = y_label;
-  a.x_tick_labels = last;
-  if (last) a.x_label = "Time (s)";
-  return a;
 }
 
 // The leg's joints: those with a sensed torque in the log whose names start with `leg`.

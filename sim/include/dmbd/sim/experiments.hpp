@@ -13,6 +13,9 @@
 //   osc_table       operational space control of the table-mounted robot (paper Fig. 6):
 //                   the point's RMS and largest error, each joint's torque error, current
 //                   saturation and the controller's evaluation time, per variant
+//   balance         unsupported balancing by stepping (paper Fig. 7): fell, time balanced,
+//                   steps, landing error, lateral CoM velocity reversals, knee winding
+//                   peaks, QP failures, the controller's tick time, pushes survived
 #include <string>
 #include <utility>
 #include <vector>

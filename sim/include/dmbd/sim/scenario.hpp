@@ -117,7 +117,7 @@ struct VariantSetup {
 };
 
 struct ExperimentSetup {
-  std::string type;                            // "", sysid_rfsea, force_tracking, step_response, thermal, standing
+  std::string type;                            // "", sysid_rfsea, force_tracking, step_response, thermal, standing, osc_table, balance
   std::string joint = "l_knee";
   std::map<std::string, std::string> text;     // further string fields (signal names ...)
   std::map<std::string, double> number;        // further numeric fields (windows ...)
