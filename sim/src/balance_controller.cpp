@@ -73,9 +73,8 @@ void BalanceController::Impl::find_frames_and_joints(const model::RobotDescripti
   for (const auto& [name, g] : setup.joint_feedback) joint(name);
 }
 
-// The tasks of every phase and the two IK problems (both feet, or the stance foot alone),
-// then the QP. The IK's tasks carry no gains (the authors'): their errors become Δq and
-// the feedback is the joint-level one (q̈_cmd).
+// The tasks of every phase and the three IK problems (both feet, the weight shift, or the
+// stance foot alone), then the QP. The tasks' gains are the setup's (none: the authors').
 void BalanceController::Impl::make_tasks() {
   const wholebody::Layout& l = model.layout();
   const int nv = l.nv;
@@ -85,14 +84,30 @@ void BalanceController::Impl::make_tasks() {
   all_joints = std::make_unique<wholebody::PostureTask>(l, every);
   for (int s = 0; s < 2; ++s) {
     swing_ankle[static_cast<size_t>(s)] = std::make_unique<wholebody::PostureTask>(l, std::vector<int>{ankle[static_cast<size_t>(s)]});
-    swing_foot[static_cast<size_t>(s)] = std::make_unique<wholebody::PointTask>(foot_frame[static_cast<size_t>(s)], nv);
+    swing_foot[static_cast<size_t>(s)] =
+        std::make_unique<wholebody::PointTask>(foot_frame[static_cast<size_t>(s)], nv, setup.swing_relative_to_torso ? torso_frame : -1);
   }
   torso_orientation = std::make_unique<wholebody::OrientationTask>(torso_frame, nv);
   torso_position = std::make_unique<wholebody::PointTask>(torso_frame, nv);
   torso = std::make_unique<wholebody::SelectionTask>(
       std::vector<std::pair<wholebody::Task*, int>>{{torso_orientation.get(), 0}, {torso_orientation.get(), 1}, {torso_position.get(), 2}}, nv);
+  com = std::make_unique<wholebody::ComTask>(nv);
+  com_y = std::make_unique<wholebody::SelectionTask>(std::vector<std::pair<wholebody::Task*, int>>{{com.get(), 1}}, nv);
+  const BalanceTaskGains& g = setup.task_gains;
+  torso_orientation->set_gains(g.torso.kp, g.torso.kd);
+  torso_position->set_gains(g.torso.kp, g.torso.kd);
+  hip_yaws->set_gains(g.joints.kp, g.joints.kd);
+  com->set_gains(g.com.kp, g.com.kd);
+  for (int s = 0; s < 2; ++s) {
+    swing_ankle[static_cast<size_t>(s)]->set_gains(g.joints.kp, g.joints.kd);
+    swing_foot[static_cast<size_t>(s)]->set_gains(g.swing_foot.kp, g.swing_foot.kd);
+  }
   ik_double = std::make_unique<wholebody::PrioritizedIk>(nv, 6, std::vector<int>{2, 3});
+  ik_shift = std::make_unique<wholebody::PrioritizedIk>(nv, 6, std::vector<int>{2, 3, 1});
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(nv);
+  w.head(6).setConstant(setup.ik_base_weight);  // the floating base's rotation and translation
   ik_single = std::make_unique<wholebody::PrioritizedIk>(nv, 3, std::vector<int>{2, 1, 3, 3});
+  for (wholebody::PrioritizedIk* ik : {ik_double.get(), ik_shift.get(), ik_single.get()}) ik->set_weights(w);
   qp = std::make_unique<wholebody::WbcQp>(l, 2, setup.qp);
 }
 
@@ -134,11 +149,11 @@ void BalanceController::Impl::name_ports() {
   for (const auto& j : joints) out(j.name + ".tau_ff", "N m");
   for (int k = 0; k < nj; ++k)
     if (linkage[static_cast<size_t>(k)]) out(joints[static_cast<size_t>(k)].name + ".force_ff", "N");
-  for (const char* n : {"phase", "swing_side", "step", "touch_downs", "qp_failures", "fallen"}) out(std::string("balance.") + n, "");
+  for (const char* n : {"phase", "swing_side", "step", "touch_downs", "landings", "qp_failures", "fallen"}) out(std::string("balance.") + n, "");
   for (const char* n : {"com_x", "com_y", "com_z"}) out(std::string("balance.") + n, "m");
   for (const char* n : {"com_vx", "com_vy"}) out(std::string("balance.") + n, "m/s");
-  for (const char* n : {"foothold_x", "foothold_y", "swing_x_d", "swing_y_d", "swing_z_d", "stance_x", "stance_y", "landed_x",
-                        "landed_y", "planned_x", "planned_y"})
+  for (const char* n : {"foothold_x", "foothold_y", "swing_x_d", "swing_y_d", "swing_z_d", "swing_x", "swing_y", "swing_z",
+                        "stance_x", "stance_y", "landed_x", "landed_y", "planned_x", "planned_y"})
     out(std::string("balance.") + n, "m");
   for (const char* n : {"fz_l", "fz_r"}) out(std::string("balance.") + n, "N");
 }
@@ -216,13 +231,13 @@ void BalanceController::Impl::write_outputs(const wholebody::PhaseInfo& ph, doub
   for (int j = 0; j < nj; ++j)
     if (const auto& g = linkage[static_cast<size_t>(j)]) y[o++] = tau_ff[j] * g->N_l(joint_q[j]);
   const wholebody::SwingSample s = swing.at(ph.phase == wholebody::Phase::Swing ? ph.time_in_phase_s : 0.0);
-  const Eigen::Vector3d stance = foot_point(wholebody::other(ph.swing_side));
+  const Eigen::Vector3d stance = foot_point(wholebody::other(ph.swing_side)), moving = foot_point(ph.swing_side);
   const Eigen::Vector3d com_v = data.J_com * v;
   const double values[] = {static_cast<double>(static_cast<int>(ph.phase)), static_cast<double>(static_cast<int>(ph.swing_side)),
-                           static_cast<double>(ph.step), static_cast<double>(ph.touch_downs), static_cast<double>(qp_failures), fallen ? 1.0 : 0.0,
+                           static_cast<double>(ph.step), static_cast<double>(ph.touch_downs), static_cast<double>(landings), static_cast<double>(qp_failures), fallen ? 1.0 : 0.0,
                            data.com.x(), data.com.y(), data.com.z(), com_v.x(), com_v.y(),
                            foothold.x(), foothold.y(), s.position_m.x(), s.position_m.y(), s.position_m.z(),
-                           stance.x(), stance.y(), landed.x(), landed.y(), planned.x(), planned.y(),
+                           moving.x(), moving.y(), moving.z(), stance.x(), stance.y(), landed.x(), landed.y(), planned.x(), planned.y(),
                            qp->forces()[2], qp->forces()[5]};
   for (double x : values) y[o++] = x;
 }

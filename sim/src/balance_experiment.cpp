@@ -5,7 +5,7 @@
 //                                     fall_tilt_rad (base.tilt) at a log sample; the first
 //   balanced_s                        from start_s (stepping starts) to the fall or the end
 //   steps                             balance.touch_downs at the last sample before the fall
-//   landing_error_rms_m               |landed − planned| (x, y) latched at each touch-down
+//   landing_error_rms_m               |landed − planned| (x, y) at each landing (balance.landings)
 //                                     before the fall, RMS over them
 //   com_lateral_velocity_reversals    fraction of the steps between consecutive touch-downs
 //                                     (before the fall) in which balance.com_vy changes sign
@@ -52,6 +52,7 @@ struct Run {
   std::size_t start = 0;                  // first sample at or after start_s
   std::size_t fall = 0;                   // first sample past the fall limits, or rows
   std::vector<std::size_t> touch_downs{};  // samples where balance.touch_downs rose, before the fall
+  std::vector<std::size_t> landings{};     // samples where balance.landings rose, before the fall
   bool fell() const { return fall < t.size(); }
   double end_s() const { return fell() ? t[fall] : t.back(); }
 };
@@ -66,20 +67,23 @@ Run analyse(const VariantResult& r, const Params& p, const std::string& file) {
   for (std::size_t k = 0; k < t.size() && run.fall == t.size(); ++k)
     if (z[k] < p.fall_height_m || tilt[k] > p.fall_tilt_rad) run.fall = k;
   const auto& td = signal(r, "balance.touch_downs", file);
-  for (std::size_t k = 1; k < run.fall; ++k)
+  const auto& landed = signal(r, "balance.landings", file);
+  for (std::size_t k = 1; k < run.fall; ++k) {
     if (td[k] > td[k - 1]) run.touch_downs.push_back(k);
+    if (landed[k] > landed[k - 1]) run.landings.push_back(k);
+  }
   return run;
 }
 
-// RMS over the touch-downs of the distance between the latched landed and planned points.
+// RMS over the landings of the distance between the latched landed and planned points.
 double landing_error_rms(const Run& run, const std::string& file) {
   const auto& lx = signal(run.r, "balance.landed_x", file);
   const auto& ly = signal(run.r, "balance.landed_y", file);
   const auto& px = signal(run.r, "balance.planned_x", file);
   const auto& py = signal(run.r, "balance.planned_y", file);
   double sq = 0;
-  for (std::size_t k : run.touch_downs) sq += (lx[k] - px[k]) * (lx[k] - px[k]) + (ly[k] - py[k]) * (ly[k] - py[k]);
-  return run.touch_downs.empty() ? kNaN : std::sqrt(sq / static_cast<double>(run.touch_downs.size()));
+  for (std::size_t k : run.landings) sq += (lx[k] - px[k]) * (lx[k] - px[k]) + (ly[k] - py[k]) * (ly[k] - py[k]);
+  return run.landings.empty() ? kNaN : std::sqrt(sq / static_cast<double>(run.landings.size()));
 }
 
 // The fraction of the steps [touch-down i, touch-down i+1] whose samples hold both a
@@ -318,7 +322,7 @@ plot::Series points(const std::string& label, const std::vector<double>& x, cons
 
 plot::Figure footsteps_figure(const std::vector<Run>& runs, const std::string& file) {
   plot::Figure fig(1000, 100 + 600 * static_cast<int>(runs.size()));
-  fig.title = "Footsteps from above: planned and landed at each touch-down, and the CoM";
+  fig.title = "Footsteps from above: planned and landed at each landing, and the CoM";
   for (const auto& run : runs) {
     auto& a = fig.axes().emplace_back();
     a.title = run.r.name;
@@ -327,9 +331,9 @@ plot::Figure footsteps_figure(const std::vector<Run>& runs, const std::string& f
     a.series.push_back(part("CoM", signal(run.r, "balance.com_x", file), signal(run.r, "balance.com_y", file), run.start, run.fall,
                             plot::Color{150, 150, 150}, 1.0));
     a.series.push_back(points("planned", signal(run.r, "balance.planned_x", file), signal(run.r, "balance.planned_y", file),
-                              run.touch_downs, plot::palette_color(0)));
+                              run.landings, plot::palette_color(0)));
     a.series.push_back(points("landed", signal(run.r, "balance.landed_x", file), signal(run.r, "balance.landed_y", file),
-                              run.touch_downs, plot::palette_color(3)));
+                              run.landings, plot::palette_color(3)));
   }
   return fig;
 }

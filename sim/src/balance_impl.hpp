@@ -42,7 +42,9 @@ struct BalanceController::Impl {
   std::unique_ptr<wholebody::OrientationTask> torso_orientation;
   std::unique_ptr<wholebody::PointTask> torso_position;
   std::unique_ptr<wholebody::SelectionTask> torso;
-  std::unique_ptr<wholebody::PrioritizedIk> ik_double, ik_single;
+  std::unique_ptr<wholebody::ComTask> com;
+  std::unique_ptr<wholebody::SelectionTask> com_y;
+  std::unique_ptr<wholebody::PrioritizedIk> ik_double, ik_shift, ik_single;
   std::unique_ptr<wholebody::WbcQp> qp;
   wholebody::PhaseMachine phases;
   wholebody::TvrPlanner tvr;
@@ -57,10 +59,14 @@ struct BalanceController::Impl {
   long long tick = 0;
   Eigen::VectorXd move_start_q;        // joints at the joint move's start
   double lift_start_height = 0.0;      // torso height at the body lift's start
+  Eigen::Vector2d shift_start = Eigen::Vector2d::Zero(), shift_end = Eigen::Vector2d::Zero();
+  Eigen::Vector2d shift_end_velocity = Eigen::Vector2d::Zero();  // the weight shift's CoM path
   Eigen::Vector2d com_desired = Eigen::Vector2d::Zero();
   bool com_desired_set = false;
   Eigen::Vector2d foothold = Eigen::Vector2d::Zero();
   Eigen::Vector2d landed = Eigen::Vector2d::Zero(), planned = Eigen::Vector2d::Zero();
+  bool landing_pending = false;  // touched down, its standing point not yet latched
+  long long landings = 0;        // standing points latched
   double swing_ankle_start = 0.0;
   long long qp_failures = 0;
   bool fallen = false;
@@ -85,11 +91,14 @@ struct BalanceController::Impl {
   // Phase events (balance_plan.cpp).
   void on_events(const wholebody::PhaseInfo& ph);
   void plan_step(const wholebody::PhaseInfo& ph, bool replan);
+  void plan_weight_shift(const wholebody::PhaseInfo& ph);
+  void pendulum_state(Eigen::Vector2d& position_m, Eigen::Vector2d& velocity_m_s) const;  // TVR's point
 
   // Tasks, IK and QP (balance_wbc.cpp): q_des, qd_des, tau_ff; false when the QP failed.
   bool whole_body(const wholebody::PhaseInfo& ph);
   void joint_move(const wholebody::PhaseInfo& ph);
   void set_torso_reference(const wholebody::PhaseInfo& ph);
+  void set_com_reference(const wholebody::PhaseInfo& ph);
   void solve_ik(const wholebody::PhaseInfo& ph);
   bool solve_qp(const wholebody::PhaseInfo& ph);
 

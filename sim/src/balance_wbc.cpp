@@ -23,6 +23,17 @@ Blend min_jerk(double a, double b, double t, double T) {
   return {a + (b - a) * s, (b - a) * ds, (b - a) * dds};
 }
 
+// The quintic from (a, 0, 0) to (b, v_end, 0) over T: value, rate and acceleration at t.
+Blend quintic_to_rate(double a, double b, double v_end, double t, double T) {
+  const double u = std::clamp(t / T, 0.0, 1.0);
+  const Blend m = min_jerk(a, b, t, T);
+  // v_end T (−4u³ + 7u⁴ − 3u⁵): value, rate and acceleration 0 at u = 0; 0, v_end, 0 at 1.
+  const double f = u * u * u * (-4.0 + 7.0 * u - 3.0 * u * u);
+  const double df = u * u * (-12.0 + 28.0 * u - 15.0 * u * u);
+  const double ddf = u * (-24.0 + 84.0 * u - 60.0 * u * u);
+  return {m.p + v_end * T * f, m.v + v_end * df, m.a + v_end * ddf / T};
+}
+
 wholebody::ContactSetting setting(const wholebody::FootContact& f) {
   return {f.values.max_normal_force_N, f.values.tangential_force_weight, f.values.normal_force_weight, f.values.slack_weight};
 }
@@ -55,6 +66,18 @@ void BalanceController::Impl::set_torso_reference(const wholebody::PhaseInfo& ph
                                 Eigen::Vector3d(0, 0, h.a));
 }
 
+// The weight shift's CoM: on its quintic in x and y, its height free (the torso's task).
+void BalanceController::Impl::set_com_reference(const wholebody::PhaseInfo& ph) {
+  Eigen::Vector3d p(0, 0, data.com.z()), v = Eigen::Vector3d::Zero(), a = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 2; ++i) {
+    const Blend b = quintic_to_rate(shift_start[i], shift_end[i], shift_end_velocity[i], ph.time_in_phase_s, ph.phase_duration_s);
+    p[i] = b.p;
+    v[i] = b.v;
+    a[i] = b.a;
+  }
+  com->set_reference(p, v, a);
+}
+
 // The IK of the phase: both feet in contact except in the swing (then the stance foot,
 // and the swing ankle and foot as tasks).
 void BalanceController::Impl::solve_ik(const wholebody::PhaseInfo& ph) {
@@ -66,7 +89,13 @@ void BalanceController::Impl::solve_ik(const wholebody::PhaseInfo& ph) {
   hip_yaws->update(data);
   torso->update(data);
   const wholebody::PrioritizedIk* ik = ik_double.get();
-  if (ph.phase != Phase::Swing) {
+  if (ph.phase == Phase::WeightShift) {
+    set_com_reference(ph);
+    com_y->update(data);
+    const wholebody::Task* tasks[] = {hip_yaws.get(), torso.get(), com_y.get()};
+    ik_shift->solve(data, J_double, Jdv_double, tasks);
+    ik = ik_shift.get();
+  } else if (ph.phase != Phase::Swing) {
     const wholebody::Task* tasks[] = {hip_yaws.get(), torso.get()};
     ik_double->solve(data, J_double, Jdv_double, tasks);
   } else {
@@ -80,7 +109,12 @@ void BalanceController::Impl::solve_ik(const wholebody::PhaseInfo& ph) {
     vd << a.v;
     dd << a.a;
     swing_ankle[sw]->set_reference(ad, vd, dd);
-    const wholebody::SwingSample s = swing.at(ph.time_in_phase_s);
+    wholebody::SwingSample s = swing.at(ph.time_in_phase_s);
+    if (setup.swing_relative_to_torso) {  // from the torso as it is and moves (its acceleration unknown: 0)
+      const auto& torso_data = data.frames[static_cast<size_t>(torso_frame)];
+      s.position_m -= torso_data.X_WF.translation();
+      s.velocity_m_s.noalias() -= torso_data.J.bottomRows<3>() * v;
+    }
     swing_foot[sw]->set_reference(s.position_m, s.velocity_m_s, s.acceleration_m_s2);
     swing_ankle[sw]->update(data);
     swing_foot[sw]->update(data);

@@ -201,8 +201,10 @@ namespace {
 
 // Issue 15's balance experiment on a synthetic stepping log at 100 Hz, 0 to 10 s
 // (sample k at k / 100 s; every event on a sample):
-//   touch-downs at samples 450, 500, ..., 850 (nine) and 950; at the j-th the latched
-//   landed point misses the planned one by 0.01 j m (along (0.6, 0.8); 0.1 m at the 10th);
+//   touch-downs at samples 450, 500, ..., 850 (nine) and 950, each landing latched two
+//   samples later (balance.landings); at the j-th landing the latched landed point misses
+//   the planned one by 0.01 j m (along (0.6, 0.8); 0.1 m at the 10th), and both hold an
+//   unrelated point (a miss of 1 m) from a touch-down until its landing;
 //   com_vy = ±0.1 flipping sign from samples 420, 475, 575, 625, 800 and 920 on (0 at
 //   sample 520: no change of sign);
 //   the fall (by `fall`: base.z 0.5 < 0.6 m, or base.tilt 0.6 > 0.5 rad) from sample 900.
@@ -214,7 +216,7 @@ dmbd::sim::VariantResult stepping_log(const std::string& name, Fall fall, Therma
   dmbd::sim::VariantResult r;
   r.name = name;
   std::vector<std::string> cols = {"base.z", "base.tilt", "balance.phase", "balance.swing_side", "balance.touch_downs",
-                                   "balance.qp_failures", "balance.com_x", "balance.com_y", "balance.com_vy", "balance.landed_x",
+                                   "balance.landings", "balance.qp_failures", "balance.com_x", "balance.com_y", "balance.com_vy", "balance.landed_x",
                                    "balance.landed_y", "balance.planned_x", "balance.planned_y", "l_knee.q", "l_knee.q_des",
                                    "l_ankle.q", "l_ankle.q_des", "r_knee.q", "r_knee.q_des"};
   if (thermal == Thermal::Single) cols.push_back("l_knee.T_winding");
@@ -234,8 +236,10 @@ dmbd::sim::VariantResult stepping_log(const std::string& name, Fall fall, Therma
     set("base.tilt", fallen && fall == Fall::Tilt ? 0.6 : 0.05);
     const int j = static_cast<int>(std::count_if(touch_downs.begin(), touch_downs.end(), [&](int s) { return k >= s; }));
     set("balance.touch_downs", j);
+    const int l = static_cast<int>(std::count_if(touch_downs.begin(), touch_downs.end(), [&](int s) { return k >= s + 2; }));
+    set("balance.landings", l);
     set("balance.qp_failures", k / 400);  // 2 at the end
-    const double planned_x = 0.1 * j, planned_y = j % 2 ? 0.1 : -0.1, miss = j == 10 ? 0.1 : 0.01 * j;
+    const double planned_x = 0.1 * l, planned_y = l % 2 ? 0.1 : -0.1, miss = l < j ? 1.0 : l == 10 ? 0.1 : 0.01 * l;
     set("balance.planned_x", planned_x);
     set("balance.planned_y", planned_y);
     set("balance.landed_x", planned_x + 0.6 * miss);

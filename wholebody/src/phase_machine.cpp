@@ -55,6 +55,8 @@ void validate(const PhaseMachineParams& p) {
           "a force of 0 N or more", p.body_lift_start_force_N);
   require(std::isfinite(p.body_lift_end_force_N) && p.body_lift_end_force_N >= 0.0, "body_lift_end_force_N",
           "a force of 0 N or more", p.body_lift_end_force_N);
+  require(std::isfinite(p.weight_shift_s) && p.weight_shift_s >= 0.0, "weight_shift_s", "0 s or more",
+          p.weight_shift_s);
   require(std::isfinite(p.touch_down_ankle_velocity_rad_s), "touch_down_ankle_velocity_rad_s", "finite",
           p.touch_down_ankle_velocity_rad_s);
   require_values("stance", p.stance);
@@ -62,8 +64,8 @@ void validate(const PhaseMachineParams& p) {
 }
 
 // Overlay names per phase (rows) and swing side (columns).
-constexpr const char* kNames[6][2] = {{"JS", "JS"},     {"BL", "BL"},     {"DS", "DS"},
-                                      {"LF-L", "LF-R"}, {"SW-L", "SW-R"}, {"LN-L", "LN-R"}};
+constexpr const char* kNames[7][2] = {{"JS", "JS"},     {"BL", "BL"},     {"DS", "DS"},    {"LF-L", "LF-R"},
+                                      {"SW-L", "SW-R"}, {"LN-L", "LN-R"}, {"WS", "WS"}};
 
 }  // namespace
 
@@ -79,6 +81,7 @@ const char* to_string(Phase p) {
     case Phase::Lift: return "lift";
     case Phase::Swing: return "swing";
     case Phase::Landing: return "landing";
+    case Phase::WeightShift: return "weight shift";
   }
   return "?";
 }
@@ -145,6 +148,14 @@ void PhaseMachine::next_phase() {
   switch (info_.phase) {
     case Phase::JointMove: enter(Phase::BodyLift); break;
     case Phase::BodyLift:
+      if (params_.weight_shift_s > 0.0) {
+        enter(Phase::WeightShift);
+        break;
+      }
+      info_.step = 1;
+      enter(Phase::DoubleSupport);
+      break;
+    case Phase::WeightShift:
       info_.step = 1;
       enter(Phase::DoubleSupport);
       break;
@@ -185,6 +196,7 @@ double PhaseMachine::duration_s(Phase p) const {
     case Phase::Lift: return params_.lift_s;
     case Phase::Swing: return params_.swing_s;
     case Phase::Landing: return params_.landing_s;
+    case Phase::WeightShift: return params_.weight_shift_s;
   }
   return 0.0;
 }
@@ -207,7 +219,8 @@ void PhaseMachine::refresh() {
       set_feet(start_up, true, start_up);
       break;
     }
-    case Phase::DoubleSupport: set_feet(params_.stance, true, params_.stance); break;
+    case Phase::DoubleSupport:
+    case Phase::WeightShift: set_feet(params_.stance, true, params_.stance); break;
     case Phase::Lift: set_feet(blend(params_.stance, params_.swing, info_.alpha), true, params_.stance); break;
     case Phase::Swing: set_feet(params_.swing, false, params_.stance); break;
     case Phase::Landing: set_feet(blend(params_.swing, params_.stance, info_.alpha), true, params_.stance); break;

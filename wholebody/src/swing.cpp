@@ -80,6 +80,8 @@ Eigen::Vector3d minimum_jerk(double tau) {
 SwingTrajectory::SwingTrajectory(const SwingParams& params) : params_(params) {
   if (!std::isfinite(params_.mid_height_m) || !std::isfinite(params_.landing_vertical_velocity_m_s))
     throw InputError("swing trajectory: mid_height_m and landing_vertical_velocity_m_s must be finite");
+  if (!(params_.horizontal_fraction > 0.0 && params_.horizontal_fraction <= 1.0))
+    throw InputError("swing trajectory: horizontal_fraction must be in (0, 1]");
   start(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 1.0);
 }
 
@@ -94,24 +96,30 @@ void SwingTrajectory::start(const Eigen::Vector3d& lift_off_m, const Eigen::Vect
 }
 
 void SwingTrajectory::solve_control_points(const Eigen::Vector3d& target_m) {
+  solve_axes(lift_off_m_, target_m, params_, duration_s_, position_, velocity_, acceleration_);
+  solve_axes(lift_off_m_, target_m, params_, horizontal_s(), position_h_, velocity_h_, acceleration_h_);
+}
+
+void SwingTrajectory::solve_axes(const Eigen::Vector3d& lift_off_m, const Eigen::Vector3d& target_m, const SwingParams& params,
+                                 double duration_s, Controls& position, Controls& velocity, Controls& acceleration) {
   Eigen::Matrix<double, kConditions, kControlPoints> m;
   for (int j = 0; j < kControlPoints; ++j) {
     Controls basis{};
     for (auto& c : basis) c.setZero();
     basis[j].setOnes();
-    m.col(j) = conditions(basis, duration_s_).col(0);
+    m.col(j) = conditions(basis, duration_s).col(0);
   }
-  Eigen::Vector3d mid = 0.5 * (lift_off_m_ + target_m);
-  mid.z() += params_.mid_height_m;
+  Eigen::Vector3d mid = 0.5 * (lift_off_m + target_m);
+  mid.z() += params.mid_height_m;
   Eigen::Matrix<double, kConditions, 3> rhs = Eigen::Matrix<double, kConditions, 3>::Zero();
-  rhs.row(0) = lift_off_m_;
+  rhs.row(0) = lift_off_m;
   rhs.row(3) = mid;
   rhs.row(4) = target_m;
-  rhs(5, 2) = params_.landing_vertical_velocity_m_s;
+  rhs(5, 2) = params.landing_vertical_velocity_m_s;
   const Eigen::Matrix<double, kControlPoints, 3> p = m.partialPivLu().solve(rhs);
-  for (int j = 0; j < kControlPoints; ++j) position_[j] = p.row(j);
-  velocity_ = derivative(position_, kDegree, duration_s_);
-  acceleration_ = derivative(velocity_, kDegree - 1, duration_s_);
+  for (int j = 0; j < kControlPoints; ++j) position[j] = p.row(j);
+  velocity = derivative(position, kDegree, duration_s);
+  acceleration = derivative(velocity, kDegree - 1, duration_s);
 }
 
 SwingSample SwingTrajectory::at(double t_s) const {
@@ -120,17 +128,30 @@ SwingSample SwingTrajectory::at(double t_s) const {
   s.position_m = de_boor(position_, kDegree, t, duration_s_);
   s.velocity_m_s = de_boor(velocity_, kDegree - 1, t, duration_s_);
   s.acceleration_m_s2 = de_boor(acceleration_, kDegree - 2, t, duration_s_);
+  if (params_.horizontal_fraction < 1.0) {
+    const double th = horizontal_s(), t_h = std::min(t, th);  // at rest on the target after f T
+    s.position_m.head<2>() = de_boor(position_h_, kDegree, t_h, th).head<2>();
+    s.velocity_m_s.head<2>() = de_boor(velocity_h_, kDegree - 1, t_h, th).head<2>();
+    s.acceleration_m_s2.head<2>() = de_boor(acceleration_h_, kDegree - 2, t_h, th).head<2>();
+  }
   for (int k = 0; k < replans_; ++k) add_offset(offsets_[k], t, s);
   return s;
 }
 
+// The horizontal part of a change blends in by f T when the replan comes before it, the
+// vertical part (and a later horizontal one) by T.
 void SwingTrajectory::add_offset(const Offset& o, double t_s, SwingSample& s) const {
   if (t_s <= o.start_s) return;
-  const double blend_s = duration_s_ - o.start_s;
-  const Eigen::Vector3d shape = minimum_jerk((t_s - o.start_s) / blend_s);
-  s.position_m += shape[0] * o.change_m;
-  s.velocity_m_s += shape[1] / blend_s * o.change_m;
-  s.acceleration_m_s2 += shape[2] / (blend_s * blend_s) * o.change_m;
+  const double ends[2] = {o.start_s < horizontal_s() ? horizontal_s() : duration_s_, duration_s_};
+  for (int part = 0; part < 2; ++part) {
+    const double blend_s = ends[part] - o.start_s;
+    const Eigen::Vector3d shape = minimum_jerk(std::min((t_s - o.start_s) / blend_s, 1.0));
+    const Eigen::Vector3d change = part == 0 ? Eigen::Vector3d(o.change_m.x(), o.change_m.y(), 0.0)
+                                             : Eigen::Vector3d(0.0, 0.0, o.change_m.z());
+    s.position_m += shape[0] * change;
+    s.velocity_m_s += shape[1] / blend_s * change;
+    s.acceleration_m_s2 += shape[2] / (blend_s * blend_s) * change;
+  }
 }
 
 bool SwingTrajectory::replan(double t_s, const Eigen::Vector3d& new_target_m) {

@@ -34,7 +34,7 @@ void Task::finish(const Eigen::Ref<const Eigen::VectorXd>& xdd_d) {
 
 // --- PointTask ---------------------------------------------------------------------
 
-PointTask::PointTask(int frame, int nv) : Task(3, nv), frame_(frame) {}
+PointTask::PointTask(int frame, int nv, int relative_to_frame) : Task(3, nv), frame_(frame), relative_to_(relative_to_frame) {}
 
 void PointTask::set_reference(const Eigen::Vector3d& p, const Eigen::Vector3d& v, const Eigen::Vector3d& a) {
   p_d_ = p;
@@ -47,6 +47,12 @@ void PointTask::update(const ModelData& data) {
   J_ = f.J.bottomRows<3>();
   Jdot_v_ = f.Jdot_v.tail<3>();
   p_ = f.X_WF.translation();
+  if (relative_to_ >= 0) {
+    const FrameData& b = data.frames[static_cast<size_t>(relative_to_)];
+    J_ -= b.J.bottomRows<3>();
+    Jdot_v_ -= b.Jdot_v.tail<3>();
+    p_ -= b.X_WF.translation();
+  }
   e_ = p_d_ - p_;
   edot_.noalias() = -J_ * data.v;
   edot_ += v_d_;

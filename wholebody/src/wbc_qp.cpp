@@ -80,6 +80,7 @@ QpStatus WbcQp::solve(const ModelData& data, const Eigen::Ref<const Eigen::Matri
 // ½zᵀGz with G diagonal: 2 × each weight (the QP's ½ cancels the problem's own scale).
 void WbcQp::build_cost(const ContactSetting* contacts) {
   G_.diagonal().head(nv_).setConstant(2.0 * params_.w_qdd);
+  if (params_.w_qdd_base >= 0.0) G_.diagonal().segment(3, 3).setConstant(2.0 * params_.w_qdd_base);  // base translation
   for (int c = 0; c < nc_; ++c) {
     const int f = nv_ + 3 * c, s = nv_ + 3 * nc_ + 3 * c;
     G_(f, f) = G_(f + 1, f + 1) = 2.0 * contacts[c].w_tangential;

@@ -5,13 +5,15 @@
 //   1. state: joint angles and rates, the torso IMU (orientation, angular velocity), and
 //      the base's position and velocity either from the stance foot's kinematics
 //      (KinematicComEstimator) or from "motion capture" (the true values plus noise);
-//   2. phase: wholebody::PhaseMachine (start-up joint move and body lift, then
-//      double support → lift → swing → landing per side, touch-down on the swing ankle's
-//      velocity);
+//   2. phase: wholebody::PhaseMachine (start-up joint move and body lift, an optional
+//      weight shift, then double support → lift → swing → landing per side, touch-down on
+//      the swing ankle's velocity);
 //   3. footsteps: the TVR planner at the swing's start and once more at mid-swing, the
 //      swing foot on a B-spline (wholebody::SwingTrajectory);
 //   4. prioritised IK from the contact null space (hip yaws → swing ankle → torso roll,
-//      pitch, height → swing foot), giving q_des = q + Δq, q̇_des, q̈_des;
+//      pitch, height → swing foot; in the weight shift hip yaws → torso → CoM x, y),
+//      giving q_des = q + Δq, q̇_des, q̈_des (the tasks' accelerations with the task gains,
+//      none by default);
 //   5. joint feedback q̈_cmd = q̈_des + Kp (q_des − q) + Kd (q̇_des − q̇) on the joints;
 //   6. the whole-body QP (wholebody::WbcQp): reaction forces in the friction pyramid,
 //      F_max blended through lift and landing, torque limits → feedforward torques τ_ff.
@@ -28,14 +30,16 @@
 //            base.x, base.y, base.z, base.vx, base.vy, base.vz            (motion capture only)
 //   outputs  J.q_des (rad), J.qd_des (rad/s), J.tau_ff (N m), J.force_ff (N, actuated)
 //            balance.phase (0 joint move, 1 body lift, 2 double support, 3 lift, 4 swing,
-//            5 landing), balance.swing_side (0 left, 1 right), balance.step,
+//            5 landing, 6 weight shift), balance.swing_side (0 left, 1 right), balance.step,
 //            balance.touch_downs, balance.qp_failures, balance.fallen,
 //            balance.com_x/y/z, balance.com_vx/vy (m, m/s: the estimate the controller uses),
 //            balance.foothold_x/y (the current swing's planned foothold),
-//            balance.swing_x/y/z_d (the swing foot's target), balance.stance_x/y (the
-//            stance foot's contact point),
-//            balance.landed_x/y, balance.planned_x/y (at the last touch-down: where the
-//            foot landed and where it was planned to),
+//            balance.swing_x/y/z_d (the swing foot's target), balance.swing_x/y/z (the
+//            swing side's contact point), balance.stance_x/y (the stance foot's),
+//            balance.landings, balance.landed_x/y, balance.planned_x/y (the last
+//            landing: where the foot that came down stands, latched at the next lift's
+//            start once it has settled, and where it was planned to at its touch-down;
+//            balance.landings counts them),
 //            balance.fz_l, balance.fz_r (N, the QP's normal forces).
 // Allocation-free step; the wall time of each evaluation is recorded (tick_times_us).
 #include <array>
@@ -64,6 +68,34 @@ struct JointFeedback {
   double kp = 0.0, kd = 0.0;
 };
 
+// Feedback in the IK tasks' accelerations, ẍ_cmd = ẍ_d + Kp e + Kd ė (1/s², 1/s). The
+// authors' tasks had none (their errors only become Δq and the joint feedback); with a
+// point contact the IK's smallest Δq for a torso error is partly a rotation of the whole
+// robot about the contact point, which no joint target corrects, so the scenario may add
+// them (docs/experiments.md, "balance").
+struct BalanceTaskGains {
+  JointFeedback torso;        // roll, pitch and height
+  JointFeedback swing_foot;   // the swing foot's position
+  JointFeedback joints;       // the hip yaws and the swing ankle
+  JointFeedback com{20.0, 9.0};  // the CoM in the weight shift
+};
+
+// The weight shift before the first step (phases.weight_shift_s > 0): the CoM moves on a
+// quintic from where it is to the point midway between the feet, shifted by offset_m,
+// arriving with the lateral speed of the stepping orbit toward the first stance foot:
+// v = (w/2) ω tanh(ω T/2), w the feet's lateral distance, T one step (double support +
+// lift + swing + landing), ω the TVR's — the linear inverted pendulum's symmetric orbit,
+// so the first step starts where the steady stepping passes.
+struct BalanceWeightShift {
+  Eigen::Vector2d offset_m = Eigen::Vector2d::Zero();
+  double speed_scale = 1.0;  // on the orbit's speed
+};
+
+// The point the TVR planner treats as the pendulum's mass: the CoM (tvr.com_height_m
+// should then be the CoM's height), or the authors' torso origin + an offset (in the
+// torso's heading frame) with the torso's velocity (at the torso's height).
+enum class TvrPoint { Com, Torso };
+
 struct BalanceSetup {
   // The posture the start-up's joint move goes to (rad; a joint not listed keeps its
   // initial angle) and the torso height the body lift reaches and stepping keeps (m).
@@ -74,6 +106,18 @@ struct BalanceSetup {
   wholebody::TvrParams tvr;
   wholebody::SwingParams swing;
   wholebody::WbcQpParams qp;
+  TvrPoint tvr_point = TvrPoint::Com;
+  Eigen::Vector2d tvr_torso_offset_m{0.06, 0.0};
+  BalanceTaskGains task_gains;
+  // The IK's weight on the floating base's six coordinates (the joints': 1): 1 is the
+  // authors' least-norm step; larger keeps the IK from "moving" the robot about its point
+  // contacts, which no joint target can do (wholebody::PrioritizedIk::set_weights).
+  double ik_base_weight = 1.0;
+  // The swing foot's task relative to the torso (its world target less the torso's
+  // measured position and velocity) instead of in the world (the authors'): the joints
+  // then carry the foot to its foothold while the base falls as the pendulum will.
+  bool swing_relative_to_torso = false;
+  BalanceWeightShift weight_shift;
   // Per joint name (a joint not listed: 0, 0); the authors' [80, 170, 170, 170, 5] and
   // [3, 8, 8, 3, 0] per leg by default (balance_controller.cpp).
   std::vector<std::pair<std::string, JointFeedback>> joint_feedback;

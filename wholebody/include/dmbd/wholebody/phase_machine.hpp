@@ -5,6 +5,9 @@
 //
 //   start-up:  joint move (2.0 s, joint-space move to the stance posture)
 //              → body lift (2.0 s, both feet's F_max ramped linearly 5 → 300 N)
+//              → weight shift (weight_shift_s, 0 by default: skipped; not in the
+//                authors' controller: the CoM swayed onto the stepping orbit, both feet
+//                in contact with the stance values)
 //   per step:  double support (0.01 s) → lift (0.03 s) → swing (0.33 s) → landing (0.01 s),
 //              the swinging side alternating (the first one configurable, left by default).
 //
@@ -37,8 +40,9 @@ enum class Side { Left = 0, Right = 1 };
 Side other(Side s);
 const char* to_string(Side s);  // "L", "R"
 
-enum class Phase { JointMove, BodyLift, DoubleSupport, Lift, Swing, Landing };
-const char* to_string(Phase p);  // "joint move", "body lift", "double support", ...
+// WeightShift last: the others keep the numbers they had before it was added.
+enum class Phase { JointMove, BodyLift, DoubleSupport, Lift, Swing, Landing, WeightShift };
+const char* to_string(Phase p);  // "joint move", "body lift", "double support", ..., "weight shift"
 
 // What the whole-body QP is given for one foot contact.
 struct ContactValues {
@@ -59,6 +63,7 @@ struct PhaseMachineParams {
   double body_lift_s = 2.0;
   double body_lift_start_force_N = 5.0;  // F_max of both feet at the body lift's start
   double body_lift_end_force_N = 300.0;  // ... and at its end (linear ramp)
+  double weight_shift_s = 0.0;           // 0: no weight shift
   double double_support_s = 0.01;
   double lift_s = 0.03;
   double swing_s = 0.33;
@@ -97,7 +102,7 @@ struct PhaseInfo {
   double alpha = 0.0;             // ½(1 − cos πt/T) in lift and landing, else 0
   std::array<FootContact, 2> feet{};  // indexed by Side
   PhaseEvents events;
-  const char* name = "JS";  // "JS", "BL", "DS", "LF-L", "SW-L", "LN-L", "LF-R", ...
+  const char* name = "JS";  // "JS", "BL", "WS", "DS", "LF-L", "SW-L", "LN-L", "LF-R", ...
 
   const FootContact& foot(Side s) const { return feet[static_cast<int>(s)]; }
 };

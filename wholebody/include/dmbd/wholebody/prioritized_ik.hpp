@@ -16,7 +16,11 @@
 // orthogonal projector onto the joint motions that move no contact and no task above,
 // so J_i J_pre⁺ = I (J_pre of full row rank) and a lower task never disturbs a higher
 // one (J_k N_i = 0 for k ≤ i); every task is met exactly when the tasks and contacts
-// are compatible. The accelerations are kinematic, as in the authors' controller: the
+// are compatible. With set_weights(w), J⁺ = W⁻¹Jᵀ(JW⁻¹Jᵀ)⁺ (W = diag w): each step is
+// the one of least Σ w_i Δq_i² instead of least Σ Δq_i², the N_i are W-orthogonal
+// projectors and the priorities hold as before. A large weight on a floating base's
+// coordinates keeps the solution from moving the base in ways no joint can (with a point
+// contact, a rotation of the whole robot about it). The accelerations are kinematic, as in the authors' controller: the
 // QP that follows corrects them for the dynamics. Δq and q̇ live in v's coordinates (a
 // floating base's rotation as a world-axes rotation vector: q_des = integrate(q, Δq, 1)).
 // Allocation-free after construction.
@@ -48,12 +52,16 @@ class PrioritizedIk {
   const Eigen::VectorXd& qdd() const { return qdd_; }      // accelerations (v)
   const Eigen::MatrixXd& null_space() const { return N_; } // after the last task
 
+  // One positive weight per v coordinate (all 1 at construction). Throws InputError for
+  // a size other than nv or a weight that is not positive and finite. Not for a tick.
+  void set_weights(const Eigen::Ref<const Eigen::VectorXd>& w);
+
  private:
   void start(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v);
   void add_task(const ModelData& data, const Task& task, int i);
 
   int nv_;
-  Eigen::LLT<Eigen::MatrixXd> identity_;  // J⁺ is the A-weighted inverse with A = I
+  Eigen::LLT<Eigen::MatrixXd> weights_;  // J⁺ is the A-weighted inverse with A = W (I by default)
   std::unique_ptr<DynamicallyConsistentInverse> contact_pinv_;
   std::vector<std::unique_ptr<DynamicallyConsistentInverse>> pinv_;       // per task
   std::vector<Eigen::MatrixXd> J_pre_;                                      // per task

@@ -23,6 +23,12 @@
 // target with the planned landing velocity). Replans add up, so the path before every
 // replan instant is kept; up to kMaxReplans per swing. T does not change with a replan.
 //
+// Horizontal ahead of vertical (horizontal_fraction f < 1; 1 by default, the authors'):
+// the horizontal axes follow the same conditions over f T instead of T (mid-way at f T/2,
+// on the target at rest from f T on), the height still over T; a replan's horizontal
+// change then blends in by f T (by T when it comes later). The foot is then over its
+// foothold before it comes down, wherever in the descent the ground is met.
+//
 // Times outside [0, T] are clamped to it (p, v, a are those at 0 or at T).
 // start(), replan() and at() allocate nothing.
 #include <array>
@@ -34,6 +40,7 @@ namespace dmbd::wholebody {
 struct SwingParams {
   double mid_height_m = 0.11;                    // above the ground at T/2
   double landing_vertical_velocity_m_s = -0.5;  // ż at t = T (negative: downwards)
+  double horizontal_fraction = 1.0;              // f in (0, 1]: x and y arrive at f T
 };
 
 struct SwingSample {
@@ -46,7 +53,8 @@ class SwingTrajectory {
  public:
   static constexpr int kMaxReplans = 4;
 
-  // Throws InputError for a mid-height or landing velocity that is not finite. Until
+  // Throws InputError for a mid-height or landing velocity that is not finite or a
+  // horizontal_fraction outside (0, 1]. Until
   // start(), the path is a 1 s swing from the origin back to it.
   explicit SwingTrajectory(const SwingParams& params = {});
 
@@ -74,12 +82,16 @@ class SwingTrajectory {
   };
 
   void solve_control_points(const Eigen::Vector3d& target_m);
+  static void solve_axes(const Eigen::Vector3d& lift_off_m, const Eigen::Vector3d& target_m, const SwingParams& params,
+                         double duration_s, Controls& position, Controls& velocity, Controls& acceleration);
   void add_offset(const Offset& o, double t_s, SwingSample& s) const;
+  double horizontal_s() const { return params_.horizontal_fraction * duration_s_; }
 
   SwingParams params_;
   Eigen::Vector3d lift_off_m_ = Eigen::Vector3d::Zero(), target_m_ = Eigen::Vector3d::Zero();
   double duration_s_ = 1.0;
-  Controls position_{}, velocity_{}, acceleration_{};  // splines of degree 3, 2 and 1
+  Controls position_{}, velocity_{}, acceleration_{};  // splines of degree 3, 2 and 1 (over T)
+  Controls position_h_{}, velocity_h_{}, acceleration_h_{};  // the same over f T (x and y used)
   std::array<Offset, kMaxReplans> offsets_{};
   int replans_ = 0;
 };

@@ -42,17 +42,19 @@ class Task {
   Eigen::VectorXd Jdot_v_, e_, edot_, xdd_cmd_, kp_, kd_;
 };
 
-// The origin of a registered frame: x = p_WF (3).
+// The origin of a registered frame: x = p_WF (3); or, given a second frame B, its
+// position from B's origin in world axes, x = p_WF − p_WB (J = J_F − J_B, linear rows):
+// a foot's target relative to the torso is met by the joints whatever the base does.
 class PointTask : public Task {
  public:
-  PointTask(int frame, int nv);
+  PointTask(int frame, int nv, int relative_to_frame = -1);
   void set_reference(const Eigen::Vector3d& p, const Eigen::Vector3d& v, const Eigen::Vector3d& a);
   void update(const ModelData& data) override;
   const Eigen::Vector3d& position() const { return p_; }  // at the last update
   const Eigen::Vector3d& reference() const { return p_d_; }
 
  private:
-  int frame_;
+  int frame_, relative_to_;
   Eigen::Vector3d p_ = Eigen::Vector3d::Zero(), p_d_ = Eigen::Vector3d::Zero(), v_d_ = Eigen::Vector3d::Zero(),
                   a_d_ = Eigen::Vector3d::Zero();
 };

@@ -36,6 +36,9 @@ struct ContactSetting {
 struct WbcQpParams {
   double mu = 0.3;                   // friction coefficient of the pyramid
   double w_qdd = 100.0;              // weight on Δq̈
+  // Weight on the floating base's six Δq̈ (< 0: w_qdd, the authors'). Lower lets the base
+  // accelerate as the contacts and gravity make it, rather than the joints giving way.
+  double w_qdd_base = -1.0;
   double torque_limit_Nm = 100.0;    // |τ_j| bound, all joints (the authors' ±100 N m), or the
                                      // joint's own effort limit (Layout) where that is lower
 };
