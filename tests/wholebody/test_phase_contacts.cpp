@@ -2,8 +2,8 @@
 // foot: α = ½(1 − cos πt/T) at 0, ½ and 1; the moving foot blended stance → swing through
 // lift and swing → stance through landing (F_max 550 ↔ 0 N, tangential weight 1 ↔ 5,
 // normal weight 0.01 ↔ 0.5, slack weight 1000 ↔ 0.001), out of contact in swing, both
-// feet at stance values in double support; the F_max ramp 5 → 300 N of the body lift;
-// parameters that are rejected.
+// feet at stance values in double support and in the optional weight shift; the F_max
+// ramp 5 → 300 N of the body lift; parameters that are rejected.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -189,6 +189,27 @@ TEST(PhaseContacts, TheRampAndTheContactValuesAreConfigurable) {
   expect_values(mid_lift.foot(Side::Left).values, {260.0, 3.0, 0.21, 50.005}, "configured lift, t = T/2");
 }
 
+// In the weight shift both feet are in contact with the stance values, exactly (no
+// blend: the configured values themselves), from its first tick (right after the body
+// lift's ramp, which ends below the stance F_max) to its last.
+TEST(PhaseContacts, WeightShiftHasBothFeetAtStanceValues) {
+  PhaseMachineParams p;
+  p.weight_shift_s = 0.2;
+  p.stance = {500.0, 2.0, 0.02, 100.0};
+  PhaseMachine m(p);
+  const std::vector<PhaseInfo> trace = run(m, 4000 + 200 + 1);
+  ASSERT_EQ(first_tick_of(trace, Phase::WeightShift, 0), 4000);
+  for (int k = 4000; k < 4200; ++k) {
+    ASSERT_EQ(trace[k].phase, Phase::WeightShift) << "tick " << k;
+    for (const Side s : {Side::Left, Side::Right}) {
+      EXPECT_TRUE(trace[k].foot(s).in_contact) << "tick " << k;
+      expect_exact(trace[k].foot(s).values, p.stance, "weight shift tick " + std::to_string(k));
+    }
+  }
+  EXPECT_LT(trace[3999].foot(Side::Left).values.max_normal_force_N, 300.0);  // the body lift before it
+  EXPECT_EQ(trace[4200].phase, Phase::DoubleSupport);
+}
+
 TEST(PhaseContacts, RejectsParametersThatCannotBeUsed) {
   const auto rejects = [](auto change, const std::string& name) {
     PhaseMachineParams p;
@@ -209,6 +230,9 @@ TEST(PhaseContacts, RejectsParametersThatCannotBeUsed) {
   rejects([](PhaseMachineParams& p) { p.swing.slack_weight = 0.0; }, "swing.slack_weight");
   rejects([](PhaseMachineParams& p) { p.touch_down_ankle_velocity_rad_s = std::nan(""); },
           "touch_down_ankle_velocity_rad_s");
+  rejects([](PhaseMachineParams& p) { p.weight_shift_s = -0.1; }, "weight_shift_s");
+  rejects([](PhaseMachineParams& p) { p.weight_shift_s = std::nan(""); }, "weight_shift_s");
+  rejects([](PhaseMachineParams& p) { p.weight_shift_s = std::numeric_limits<double>::infinity(); }, "weight_shift_s");
   EXPECT_NO_THROW(PhaseMachine{PhaseMachineParams{}});
 }
 

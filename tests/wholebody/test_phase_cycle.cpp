@@ -3,13 +3,16 @@
 // (⌈(T − 1e-9 s)/dt⌉ ticks, at least one) at other ticks and durations, the swinging side
 // alternating from the configured first side, the early touch-down (never before the
 // tick after mid-swing, only on the swing ankle, strictly below the threshold), and the
-// events (swing started, mid-swing once per swing, touch-down early or not).
+// events (swing started, mid-swing once per swing, touch-down early or not); the optional
+// weight shift between the body lift and the first step (its ticks, its rounding, skipped
+// at 0 s, its names).
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dmbd/base/error.hpp"
@@ -285,6 +288,77 @@ TEST(PhaseMachine, OverlayNamesAndPhaseNames) {
   EXPECT_STREQ(to_string(Phase::Swing), "swing");
   EXPECT_STREQ(to_string(Side::Right), "R");
   EXPECT_EQ(other(Side::Right), Side::Left);
+}
+
+// The weight shift (weight_shift_s > 0) between the body lift and the first step: 0.5 s
+// is 500 ticks at 1 kHz, named "WS", step 0, its time from 0 by dt, its nominal
+// duration reported; the first double support (step 1) follows it.
+TEST(PhaseMachine, WeightShiftComesBetweenTheBodyLiftAndTheFirstStep) {
+  PhaseMachineParams p;
+  p.weight_shift_s = 0.5;
+  PhaseMachine m(p);
+  const std::vector<PhaseInfo> trace = run(m, kStartUpTicks + 500 + kStepTicks + 1, kDt);
+  const std::vector<Segment> segs = segments(trace);
+  EXPECT_EQ(names(segs), (std::vector<std::string>{"JS", "BL", "WS", "DS", "LF-L", "SW-L", "LN-L", "DS"}));
+  EXPECT_EQ(lengths(segs), (std::vector<int>{2000, 2000, 500, 10, 30, 330, 10, 1}));
+  ASSERT_EQ(segs.size(), 8u);
+  for (int j = 0; j < 500; ++j) {
+    const PhaseInfo& i = trace[kStartUpTicks + j];
+    ASSERT_EQ(i.phase, Phase::WeightShift) << "tick " << j;
+    ASSERT_EQ(i.step, 0) << "tick " << j;
+    ASSERT_EQ(i.events.phase_started, j == 0) << "tick " << j;
+    ASSERT_NEAR(i.time_in_phase_s, j * kDt, kTimeTol_s);
+    ASSERT_EQ(i.phase_duration_s, 0.5);
+    ASSERT_EQ(i.alpha, 0.0);
+  }
+  const PhaseInfo& ds = trace[kStartUpTicks + 500];
+  EXPECT_EQ(ds.phase, Phase::DoubleSupport);
+  EXPECT_TRUE(ds.events.phase_started);
+  EXPECT_EQ(ds.step, 1);
+  EXPECT_EQ(trace.back().step, 2);
+  EXPECT_EQ(trace.back().touch_downs, 1);
+}
+
+// The weight shift follows the rounding rule of every phase: ⌈(T − 1e-9 s)/dt⌉ ticks, at
+// least one (0.0105 s → 11 ticks; 1e-10 s, under the 1e-9 s tolerance → 1 tick).
+TEST(PhaseMachine, WeightShiftFollowsTheRoundingRule) {
+  for (const auto& [duration_s, ticks] : {std::pair{0.0105, 11}, std::pair{1e-10, 1}}) {
+    PhaseMachineParams p;
+    p.weight_shift_s = duration_s;
+    PhaseMachine m(p);
+    const std::vector<Segment> segs = segments(run(m, kStartUpTicks + ticks + 1, kDt));
+    EXPECT_EQ(names(segs), (std::vector<std::string>{"JS", "BL", "WS", "DS"})) << duration_s;
+    EXPECT_EQ(lengths(segs), (std::vector<int>{2000, 2000, ticks, 1})) << duration_s;
+  }
+}
+
+// weight_shift_s = 0 (the default) skips the phase: a phase of 0 s would otherwise last
+// one tick (the rounding rule's "at least one"); here the body lift is followed on tick
+// 4000 by the first double support, as without the option.
+TEST(PhaseMachine, ZeroWeightShiftSkipsThePhase) {
+  PhaseMachineParams p;
+  p.weight_shift_s = 0.0;
+  PhaseMachine m(p);
+  const std::vector<PhaseInfo> trace = run(m, kStartUpTicks + kStepTicks + 1, kDt);
+  const std::vector<Segment> segs = segments(trace);
+  EXPECT_EQ(names(segs), (std::vector<std::string>{"JS", "BL", "DS", "LF-L", "SW-L", "LN-L", "DS"}));
+  EXPECT_EQ(lengths(segs), (std::vector<int>{2000, 2000, 10, 30, 330, 10, 1}));
+  for (const PhaseInfo& i : trace) ASSERT_NE(i.phase, Phase::WeightShift);
+  EXPECT_EQ(trace[kStartUpTicks].step, 1);
+}
+
+// "weight shift" by name; "WS" whichever side swings first; the enum's earlier values
+// keep their numbers (WeightShift was added last).
+TEST(PhaseMachine, WeightShiftNames) {
+  EXPECT_STREQ(to_string(Phase::WeightShift), "weight shift");
+  EXPECT_EQ(static_cast<int>(Phase::Landing), 5);
+  EXPECT_EQ(static_cast<int>(Phase::WeightShift), 6);
+  PhaseMachineParams p;
+  p.weight_shift_s = 0.1;
+  p.first_swing_side = Side::Right;
+  PhaseMachine m(p);
+  const std::vector<Segment> segs = segments(run(m, kStartUpTicks + 100 + 11, kDt));
+  EXPECT_EQ(names(segs), (std::vector<std::string>{"JS", "BL", "WS", "DS", "LF-R"}));
 }
 
 TEST(PhaseMachine, ResetStartsOver) {

@@ -1,7 +1,9 @@
 // The swing trajectory's replan (wholebody/swing.hpp): p, v, a continuous at the replan
 // instant, the path before it kept, the landing on the new target with the planned
 // landing velocity, derivatives still finite differences of position, two replans in a
-// row, and the replans refused. Worst errors are recorded as test properties
+// row, and the replans refused; with the horizontal part ahead (horizontal_fraction < 1)
+// a replan's horizontal change arriving by f T (by T after f T), the vertical by T, and
+// f = 1 blending as before. Worst errors are recorded as test properties
 // (--gtest_output=xml).
 #include <gtest/gtest.h>
 
@@ -138,6 +140,87 @@ TEST(SwingReplan, RefusedAndEarlyReplans) {
   EXPECT_LT(lift.velocity_m_s.norm(), 1e-10);
   EXPECT_LT(lift.acceleration_m_s2.norm(), 1e-8);
   EXPECT_LT((early.at(kT).position_m - kMoved).norm(), 1e-12);
+}
+
+// --- With the horizontal part ahead (horizontal_fraction f < 1) ------------------------
+
+const double kF = 0.6, kFT = kF * kT;  // x and y arrive at f T = 0.198 s
+const Eigen::Vector3d kMovedUp(0.11, -0.41, 0.012);  // a replan target 12 mm higher
+
+SwingTrajectory swing(double f) {
+  SwingParams params;
+  params.horizontal_fraction = f;
+  SwingTrajectory s(params);
+  s.start(kLiftOff, kTarget, kT);
+  return s;
+}
+
+// The minimum-jerk blend s(τ), τ clamped to [0, 1], as the header writes it.
+double blend(double t, double start, double end) {
+  const double tau = std::clamp((t - start) / (end - start), 0.0, 1.0);
+  return tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
+}
+
+// A replan at t_r = 0.1 s < f T: p, v, a continuous at t_r (1e-12); x and y on the new
+// target at rest from f T on (1e-12 m, 1e-10 m/s, 1e-8 m/s², as for the landing); z the
+// old height plus the 12 mm change blended from t_r to T (1e-12 m), landing with the
+// planned velocity.
+TEST(SwingReplan, BeforeFTTheHorizontalChangeArrivesByFT) {
+  const SwingTrajectory old_path = swing(kF);
+  SwingTrajectory s = swing(kF);
+  const double t_r = 0.1;
+  ASSERT_TRUE(s.replan(t_r, kMovedUp));
+  for (int order = 0; order < 3; ++order) EXPECT_LE(distance(s.at(t_r), old_path.at(t_r), order), 1e-12) << order;
+  for (const double t : {kFT, 0.25, kT}) {
+    const SwingSample at = s.at(t);
+    EXPECT_LT((at.position_m.head<2>() - kMovedUp.head<2>()).norm(), 1e-12) << "t " << t;
+    EXPECT_LT(at.velocity_m_s.head<2>().norm(), 1e-10) << "t " << t;
+    EXPECT_LT(at.acceleration_m_s2.head<2>().norm(), 1e-8) << "t " << t;
+  }
+  EXPECT_GT((s.at(0.15).position_m.head<2>() - kMovedUp.head<2>()).norm(), 1e-3);  // on its way at 0.15 s
+  const double dz = kMovedUp.z() - kTarget.z();
+  for (int k = 0; k <= 50; ++k) {
+    const double t = t_r + k * (kT - t_r) / 50;
+    EXPECT_NEAR(s.at(t).position_m.z(), old_path.at(t).position_m.z() + dz * blend(t, t_r, kT), 1e-12) << "t " << t;
+  }
+  // At f T the height's change is under way, not complete (s(0.43) = 0.39 of it).
+  EXPECT_GT(std::abs(s.at(kFT).position_m.z() - old_path.at(kFT).position_m.z() - dz), 0.5 * dz);
+  EXPECT_LT((s.at(kT).position_m - kMovedUp).norm(), 1e-12);
+  EXPECT_LT((s.at(kT).velocity_m_s - Eigen::Vector3d(0, 0, -0.5)).norm(), 1e-10);
+}
+
+// A replan at t_r = 0.25 s > f T (the foot already over the old target): the horizontal
+// change blends in by T instead, from rest at t_r (x, y = old target + δ s(τ), 1e-12 m).
+TEST(SwingReplan, AfterFTTheHorizontalChangeArrivesByT) {
+  const SwingTrajectory old_path = swing(kF);
+  SwingTrajectory s = swing(kF);
+  const double t_r = 0.25;
+  ASSERT_TRUE(s.replan(t_r, kMoved));
+  for (int order = 0; order < 3; ++order) EXPECT_LE(distance(s.at(t_r), old_path.at(t_r), order), 1e-12) << order;
+  const Eigen::Vector2d delta = (kMoved - kTarget).head<2>();
+  for (int k = 0; k <= 40; ++k) {
+    const double t = t_r + k * (kT - t_r) / 40;
+    const Eigen::Vector2d expected = kTarget.head<2>() + blend(t, t_r, kT) * delta;
+    EXPECT_LT((s.at(t).position_m.head<2>() - expected).norm(), 1e-12) << "t " << t;
+  }
+  EXPECT_LT((s.at(kT).position_m - kMoved).norm(), 1e-12);
+}
+
+// With f = 1 a replan is blended as before the option: the old path plus δ s(τ) over
+// [t_r, T] in all three axes (1e-12 m), and bit for bit a default-constructed
+// trajectory's replan, at 331 times.
+TEST(SwingReplan, FractionOneBlendsAsWithoutTheOption) {
+  const SwingTrajectory old_path = swing(1.0);
+  SwingTrajectory one = swing(1.0), plain = swing();
+  ASSERT_TRUE(one.replan(kReplan, kMovedUp));
+  ASSERT_TRUE(plain.replan(kReplan, kMovedUp));
+  const Eigen::Vector3d delta = kMovedUp - kTarget;
+  for (int k = 0; k <= 330; ++k) {
+    const double t = k * kT / 330.0;
+    const Eigen::Vector3d expected = old_path.at(t).position_m + blend(t, kReplan, kT) * delta;
+    ASSERT_LT((one.at(t).position_m - expected).norm(), 1e-12) << "t " << t;
+    for (int order = 0; order < 3; ++order) ASSERT_EQ(distance(one.at(t), plain.at(t), order), 0.0) << "t " << t;
+  }
 }
 
 }  // namespace

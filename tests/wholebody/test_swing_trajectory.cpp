@@ -1,8 +1,9 @@
 // The swing foot's cubic B-spline (wholebody/swing.hpp): its end points and end
 // velocities and accelerations, the mid-point height at T/2, velocity and acceleration
 // against finite differences, clamping outside [0, T], the foot staying above the
-// ground, the configurable height and landing velocity, and the parameter checks. Worst
-// errors are recorded as test properties (--gtest_output=xml).
+// ground, the configurable height and landing velocity, the horizontal part ahead of the
+// vertical one (horizontal_fraction), and the parameter checks. Worst errors are recorded
+// as test properties (--gtest_output=xml).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/wholebody/swing.hpp"
@@ -162,6 +164,91 @@ TEST(SwingTrajectory, StartBeginsANewSwing) {
   EXPECT_EQ(s.target_m(), kTargetLow);
   EXPECT_EQ(s.duration_s(), 0.4);
   EXPECT_NEAR((s.at(0.4).position_m - kTargetLow).norm(), 0.0, 1e-12);
+}
+
+// --- Horizontal ahead of vertical (horizontal_fraction f < 1) --------------------------
+
+const double kF = 0.6;  // x and y arrive at f T = 0.198 s
+
+SwingParams horizontal_fraction(double f) {
+  SwingParams params;
+  params.horizontal_fraction = f;
+  return params;
+}
+
+// x and y are on the target at f T from rest (velocity 0, acceleration 0), and stay there
+// at rest until T (tolerances as for the landing above: 1e-12 m, 1e-10 m/s, 1e-8 m/s²);
+// half-way at f T/2 (1e-12 m); before f T not yet there.
+TEST(SwingTrajectory, HorizontalFractionArrivesAtFTAndStays) {
+  for (const auto& [from, to] : {std::pair{kLiftOff, kTarget}, std::pair{kLiftOffHigh, kTargetLow}}) {
+    const SwingTrajectory s = make(from, to, horizontal_fraction(kF));
+    for (const double t : {kF * kT, kF * kT + 1e-6, 0.25, 0.3, kT - 1e-9, kT}) {
+      const SwingSample at = s.at(t);
+      EXPECT_LT((at.position_m.head<2>() - to.head<2>()).norm(), 1e-12) << "t " << t;
+      EXPECT_LT(at.velocity_m_s.head<2>().norm(), 1e-10) << "t " << t;
+      EXPECT_LT(at.acceleration_m_s2.head<2>().norm(), 1e-8) << "t " << t;
+    }
+    const Eigen::Vector2d mid = s.at(0.5 * kF * kT).position_m.head<2>();
+    EXPECT_LT((mid - 0.5 * (from + to).head<2>()).norm(), 1e-12);
+    EXPECT_GT((s.at(0.9 * kF * kT).position_m.head<2>() - to.head<2>()).norm(), 1e-4);  // still on its way
+    const SwingSample lift = s.at(0.0);
+    EXPECT_LT((lift.position_m - from).norm(), 1e-12);
+    EXPECT_LT(lift.velocity_m_s.norm(), 1e-10);
+    EXPECT_LT(lift.acceleration_m_s2.norm(), 1e-8);
+  }
+}
+
+// The height does not depend on f: z, ż, z̈ as with f = 1 at 331 times (1e-12).
+TEST(SwingTrajectory, HorizontalFractionLeavesTheHeightAlone) {
+  const SwingTrajectory early = make(kLiftOffHigh, kTargetLow, horizontal_fraction(kF));
+  const SwingTrajectory full = make(kLiftOffHigh, kTargetLow);
+  for (int k = 0; k <= 330; ++k) {
+    const double t = k * kT / 330.0;
+    const SwingSample a = early.at(t), b = full.at(t);
+    ASSERT_NEAR(a.position_m.z(), b.position_m.z(), 1e-12) << "t " << t;
+    ASSERT_NEAR(a.velocity_m_s.z(), b.velocity_m_s.z(), 1e-12) << "t " << t;
+    ASSERT_NEAR(a.acceleration_m_s2.z(), b.acceleration_m_s2.z(), 1e-12) << "t " << t;
+  }
+  EXPECT_NEAR(early.at(0.5 * kT).position_m.z(), 0.5 * (kLiftOffHigh.z() + kTargetLow.z()) + 0.11, 1e-12);
+}
+
+// Velocity and acceleration are the central differences of position and velocity with
+// f < 1 too (the horizontal spline over f T scaled by its own duration), away from the
+// knots of both splines (multiples of T/4 and of f T/4) by 1e-4 s; tolerances as above.
+TEST(SwingTrajectory, HorizontalFractionDerivativesAreFiniteDifferences) {
+  const SwingTrajectory s = make(kLiftOff, kTarget, horizontal_fraction(kF));
+  const double h = 1e-6;
+  double worst_v = 0, worst_a = 0;
+  for (int k = 0; k <= 330; ++k) {
+    const double t = 1e-4 + k * (kT - 2e-4) / 330.0;
+    if (std::abs(std::remainder(t, kT / 4)) < 1e-4 || std::abs(std::remainder(t, kF * kT / 4)) < 1e-4) continue;
+    const SwingSample plus = s.at(t + h), minus = s.at(t - h), here = s.at(t);
+    worst_v = std::max(worst_v, ((plus.position_m - minus.position_m) / (2 * h) - here.velocity_m_s).norm());
+    worst_a = std::max(worst_a, ((plus.velocity_m_s - minus.velocity_m_s) / (2 * h) - here.acceleration_m_s2).norm());
+  }
+  EXPECT_LT(worst_v, 1e-7);
+  EXPECT_LT(worst_a, 1e-5);
+  RecordProperty("worst_velocity_error_m_s", text(worst_v));
+  RecordProperty("worst_acceleration_error_m_s2", text(worst_a));
+}
+
+// f = 1 (the default) is the path without the option: the same samples, bit for bit, as
+// a default-constructed trajectory at 331 times.
+TEST(SwingTrajectory, HorizontalFractionOneIsTheDefault) {
+  const SwingTrajectory one = make(kLiftOff, kTarget, horizontal_fraction(1.0)), plain = make(kLiftOff, kTarget);
+  for (int k = 0; k <= 330; ++k) {
+    const double t = k * kT / 330.0;
+    ASSERT_EQ(one.at(t).position_m, plain.at(t).position_m) << "t " << t;
+    ASSERT_EQ(one.at(t).velocity_m_s, plain.at(t).velocity_m_s) << "t " << t;
+    ASSERT_EQ(one.at(t).acceleration_m_s2, plain.at(t).acceleration_m_s2) << "t " << t;
+  }
+}
+
+TEST(SwingTrajectory, RejectsAHorizontalFractionOutsideZeroToOne) {
+  for (const double f : {0.0, -0.1, 1.0 + 1e-12, 2.0, std::nan(""), std::numeric_limits<double>::infinity()})
+    EXPECT_THROW(SwingTrajectory{horizontal_fraction(f)}, InputError) << f;
+  EXPECT_NO_THROW(SwingTrajectory{horizontal_fraction(1.0)});
+  EXPECT_NO_THROW(SwingTrajectory{horizontal_fraction(0.05)});
 }
 
 TEST(SwingTrajectory, RejectsBadDurationsAndParameters) {

@@ -1,7 +1,8 @@
 // Tasks (task.hpp) against hand values on the two-link arm and hand-made ModelData:
-// PointTask, ComTask, OrientationTask and PostureTask's Jacobian, J̇v, error, error
-// rate and command ẍ_cmd = ẍ_d + Kp e + Kd ė; the orientation error as a world-axes
-// rotation vector; the posture task's q and v indices on a floating base; bad input.
+// PointTask (also relative to a second frame), ComTask, OrientationTask and
+// PostureTask's Jacobian, J̇v, error, error rate and command ẍ_cmd = ẍ_d + Kp e + Kd ė;
+// the orientation error as a world-axes rotation vector; the posture task's q and v
+// indices on a floating base; bad input.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -52,6 +53,55 @@ TEST(PointTask, HandValuesOnTheStretchedArm) {
   EXPECT_LT((task.error_rate() - Eigen::Vector3d(0, 0, 0.9)).norm(), kTol);
   // ẍ_cmd = (0.1 + 100·0.1 + 20·0, 0, 0 + 25·0.2 + 5·0.9).
   EXPECT_LT((task.command() - Eigen::Vector3d(10.1, 0, 9.5)).norm(), kTol) << task.command().transpose();
+}
+
+// The three-link arm bent and moving, its tip (frame 0) and a point on link 1 off its
+// axis (frame 1, 5 cm along y: the difference has all three components).
+struct MovingArm {
+  PlanarArm arm = three_link_arm();
+  int tip = arm.add_frame({"link3", Eigen::Vector3d(link_c().length, 0, 0)});
+  int base = arm.add_frame({"link1", Eigen::Vector3d(0.35, 0.05, 0)});
+  ModelData data = evaluate(arm, Eigen::Vector3d(0.3, -0.8, 1.1), Eigen::Vector3d(0.7, -1.2, 0.5));
+};
+
+// x = p_F − p_B, J = J_F − J_B, J̇v = J̇_F v − J̇_B v against two plain point tasks on the
+// same data (the same subtractions: 1e-15), e = x_d − x, ė = ẋ_d − J v and ẍ_cmd from
+// them (1e-12, as the hand values above).
+TEST(PointTask, RelativeToAFrameIsTheDifferenceOfTheTwoPoints) {
+  MovingArm m;
+  PointTask relative(m.tip, 3, m.base), at_tip(m.tip, 3), at_base(m.base, 3);
+  const Eigen::Vector3d p_d(0.3, 0.02, -0.4), v_d(0.1, -0.2, 0.3), a_d(1.0, 0.5, -2.0);
+  relative.set_reference(p_d, v_d, a_d);
+  relative.set_gains(vec({100, 50, 25}), vec({20, 10, 5}));
+  for (PointTask* t : {&relative, &at_tip, &at_base}) t->update(m.data);
+  const Eigen::Vector3d x = at_tip.position() - at_base.position();
+  const Eigen::MatrixXd J = at_tip.jacobian() - at_base.jacobian();
+  EXPECT_LT((relative.position() - x).norm(), 1e-15);
+  EXPECT_LT((relative.jacobian() - J).norm(), 1e-15);
+  EXPECT_LT((relative.jacobian_dot_v() - (at_tip.jacobian_dot_v() - at_base.jacobian_dot_v())).norm(), 1e-15);
+  EXPECT_GT(x.cwiseAbs().minCoeff(), 0.01);  // every component non-trivial: (0.742, −0.05, −0.022) m
+  EXPECT_GT(at_base.jacobian().norm(), 0.1);  // and B moves (|J_B| = 0.35): J differs from J_F
+  const Eigen::Vector3d e = p_d - x, edot = v_d - J * m.data.v;
+  EXPECT_LT((relative.error() - e).norm(), kTol);
+  EXPECT_LT((relative.error_rate() - edot).norm(), kTol);
+  const Eigen::Vector3d cmd = a_d + vec({100, 50, 25}).cwiseProduct(e) + vec({20, 10, 5}).cwiseProduct(edot);
+  EXPECT_LT((relative.command() - cmd).norm(), kTol);
+}
+
+// A world target (p_W, v_W) given to the relative task as (p_W − p_B, v_W − J_B v) gives
+// the world task's error and error rate (1e-12).
+TEST(PointTask, RelativeTaskWithTheTargetFromBIsTheWorldTask) {
+  MovingArm m;
+  PointTask relative(m.tip, 3, m.base), world(m.tip, 3), at_base(m.base, 3);
+  at_base.update(m.data);
+  const Eigen::Vector3d p_W(0.6, 0.1, -0.7), v_W(-0.3, 0.2, 0.4), a_W(0.5, 0.0, 1.0);
+  world.set_reference(p_W, v_W, a_W);
+  relative.set_reference(p_W - at_base.position(), v_W - at_base.jacobian() * m.data.v, a_W);
+  world.update(m.data);
+  relative.update(m.data);
+  EXPECT_LT((relative.error() - world.error()).norm(), kTol);
+  EXPECT_LT((relative.error_rate() - world.error_rate()).norm(), kTol);
+  EXPECT_GT(world.error_rate().norm(), 0.1);  // a moving arm: a rate error to match (0.60 m/s)
 }
 
 TEST(ComTask, HandValuesOnTheStretchedArm) {
