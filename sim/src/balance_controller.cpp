@@ -9,6 +9,13 @@ namespace dmbd::sim {
 
 namespace {
 
+// The TVR's step period is the phase machine's: double support + lift + swing + landing.
+wholebody::TvrParams tvr_params(const BalanceSetup& s) {
+  wholebody::TvrParams p = s.tvr;
+  p.step_period_s = s.phases.double_support_s + s.phases.lift_s + s.phases.swing_s + s.phases.landing_s;
+  return p;
+}
+
 model::DynamicsOptions floating(double gravity) {
   model::DynamicsOptions o;
   o.base = model::BaseMode::Floating;
@@ -50,7 +57,7 @@ BalanceController::Impl::Impl(const model::RobotDescription& robot, double gravi
                 {s.foot_link[1], collision_centre(robot, s.foot_link[1], s.where)}),
       rng(s.seed),
       phases(s.phases),
-      tvr(s.tvr),
+      tvr(tvr_params(s)),
       swing(s.swing) {}
 
 void BalanceController::Impl::find_frames_and_joints(const model::RobotDescription& robot) {
@@ -71,6 +78,7 @@ void BalanceController::Impl::find_frames_and_joints(const model::RobotDescripti
   nj = static_cast<int>(l.joints.size());
   for (const auto& [name, angle] : setup.stance_posture) joint(name);
   for (const auto& [name, g] : setup.joint_feedback) joint(name);
+  for (const auto& [name, w] : setup.ik_joint_weights) joint(name);
 }
 
 // The tasks of every phase and the three IK problems (both feet, the weight shift, or the
@@ -86,6 +94,9 @@ void BalanceController::Impl::make_tasks() {
     swing_ankle[static_cast<size_t>(s)] = std::make_unique<wholebody::PostureTask>(l, std::vector<int>{ankle[static_cast<size_t>(s)]});
     swing_foot[static_cast<size_t>(s)] =
         std::make_unique<wholebody::PointTask>(foot_frame[static_cast<size_t>(s)], nv, setup.swing_relative_to_torso ? torso_frame : -1);
+    foot_orientation[static_cast<size_t>(s)] = std::make_unique<wholebody::OrientationTask>(foot_frame[static_cast<size_t>(s)], nv);
+    foot_pitch[static_cast<size_t>(s)] = std::make_unique<wholebody::SelectionTask>(
+        std::vector<std::pair<wholebody::Task*, int>>{{foot_orientation[static_cast<size_t>(s)].get(), 1}}, nv);
   }
   torso_orientation = std::make_unique<wholebody::OrientationTask>(torso_frame, nv);
   torso_position = std::make_unique<wholebody::PointTask>(torso_frame, nv);
@@ -100,12 +111,14 @@ void BalanceController::Impl::make_tasks() {
   com->set_gains(g.com.kp, g.com.kd);
   for (int s = 0; s < 2; ++s) {
     swing_ankle[static_cast<size_t>(s)]->set_gains(g.joints.kp, g.joints.kd);
+    foot_orientation[static_cast<size_t>(s)]->set_gains(g.joints.kp, g.joints.kd);
     swing_foot[static_cast<size_t>(s)]->set_gains(g.swing_foot.kp, g.swing_foot.kd);
   }
   ik_double = std::make_unique<wholebody::PrioritizedIk>(nv, 6, std::vector<int>{2, 3});
   ik_shift = std::make_unique<wholebody::PrioritizedIk>(nv, 6, std::vector<int>{2, 3, 1});
   Eigen::VectorXd w = Eigen::VectorXd::Ones(nv);
   w.head(6).setConstant(setup.ik_base_weight);  // the floating base's rotation and translation
+  for (const auto& [name, weight] : setup.ik_joint_weights) w[l.joints[static_cast<size_t>(l.joint_index(name))].v_index] = weight;
   ik_single = std::make_unique<wholebody::PrioritizedIk>(nv, 3, std::vector<int>{2, 1, 3, 3});
   for (wholebody::PrioritizedIk* ik : {ik_double.get(), ik_shift.get(), ik_single.get()}) ik->set_weights(w);
   qp = std::make_unique<wholebody::WbcQp>(l, 2, setup.qp);
@@ -114,10 +127,33 @@ void BalanceController::Impl::make_tasks() {
 void BalanceController::Impl::bind_actuators(const std::vector<model::ActuatorParams>& actuators) {
   for (const auto& j : model.layout().joints) {
     std::optional<model::LinkageGeometry> g;
+    double mass = 0.0, damping = 0.0, eta = 1.0;
     for (const auto& a : actuators)
-      if (a.joint == j.name) g = a.linkage;
+      if (a.joint == j.name) {
+        g = a.linkage;
+        mass = a.reflected_mass_kg();
+        damping = a.reflected_damping_Ns_per_m() + a.B_l_Ns_per_m;
+        eta = a.efficiency;
+      }
     linkage.push_back(g);
+    rotor_mass.push_back(mass);
+    actuator_damping.push_back(damping);
+    efficiency.push_back(eta);
   }
+}
+
+// F_ff = τ_ff N_l(q); with actuator_feedforward also what the actuator's own rotor and
+// damping take at the commanded motion, ẋ = r q̇_des and ẍ = r q̈ + r' q̇_des² (r the
+// moment arm, q̈ the QP's), all divided by the drive efficiency (the motor force that
+// reaches the screw is η k_τ N_m i; the loop's k_ff = 1/(k_τ N_m) leaves η out).
+double BalanceController::Impl::actuator_force(int j) const {
+  const auto k = static_cast<size_t>(j);
+  const model::LinkageGeometry& g = *linkage[k];
+  const double F = tau_ff[j] * g.N_l(joint_q[j]);
+  if (!setup.actuator_feedforward) return F;
+  const double r = g.moment_arm_m(joint_q[j]), dr = g.dmoment_arm_dq_m(joint_q[j]);
+  const double xd = r * qd_des[j], xdd = r * qdd_joint[j] + dr * qd_des[j] * qd_des[j];
+  return (F + rotor_mass[k] * xdd + actuator_damping[k] * xd) / efficiency[k];
 }
 
 void BalanceController::Impl::set_gains() {
@@ -164,7 +200,7 @@ void BalanceController::Impl::start_at(const std::vector<std::pair<std::string, 
   joint_q = joint_v = Eigen::VectorXd::Zero(nj);
   q = model.dynamics().neutral_configuration();
   v = qdd_cmd = Eigen::VectorXd::Zero(l.nv);
-  q_des = qd_des = tau_ff = move_start_q = stance_q = last_q_des = last_qd_des = Eigen::VectorXd::Zero(nj);
+  q_des = qd_des = tau_ff = move_start_q = stance_q = last_q_des = last_qd_des = qdd_joint = Eigen::VectorXd::Zero(nj);
   for (const auto& [name, angle] : q0)
     if (const int j = l.joint_index(name); j >= 0) q_des[j] = stance_q[j] = angle;
   for (const auto& [name, angle] : setup.stance_posture) stance_q[l.joint_index(name)] = angle;
@@ -214,6 +250,7 @@ void BalanceController::step(const double* u, double* y) {
     m.q_des = m.joint_q;  // hold still where it lies, no feedforward
     m.qd_des.setZero();
     m.tau_ff.setZero();
+    m.qdd_joint.setZero();
   } else if (!m.whole_body(ph)) {
     ++m.qp_failures;
   }
@@ -229,7 +266,7 @@ void BalanceController::Impl::write_outputs(const wholebody::PhaseInfo& ph, doub
   for (int j = 0; j < nj; ++j) y[o++] = qd_des[j];
   for (int j = 0; j < nj; ++j) y[o++] = tau_ff[j];
   for (int j = 0; j < nj; ++j)
-    if (const auto& g = linkage[static_cast<size_t>(j)]) y[o++] = tau_ff[j] * g->N_l(joint_q[j]);
+    if (linkage[static_cast<size_t>(j)]) y[o++] = actuator_force(j);
   const wholebody::SwingSample s = swing.at(ph.phase == wholebody::Phase::Swing ? ph.time_in_phase_s : 0.0);
   const Eigen::Vector3d stance = foot_point(wholebody::other(ph.swing_side)), moving = foot_point(ph.swing_side);
   const Eigen::Vector3d com_v = data.J_com * v;

@@ -32,12 +32,18 @@ struct BalanceController::Impl {
   std::array<int, 2> foot_frame{}, ankle{}, hip_yaw{};
   int nj = 0;
   std::vector<std::optional<model::LinkageGeometry>> linkage;  // per joint
+  // Per joint with an actuator (0 without): the reflected rotor mass J_m N_m² (kg), the
+  // damping along the actuator B_m N_m² + B_l (N s/m) and the drive efficiency.
+  std::vector<double> rotor_mass, actuator_damping, efficiency;
   Eigen::VectorXd kp, kd;                                       // per joint (joint feedback)
   Eigen::VectorXd stance_q;                                     // joint move target, per joint
 
   // Tasks and solvers.
   std::unique_ptr<wholebody::PostureTask> hip_yaws, all_joints;
   std::array<std::unique_ptr<wholebody::PostureTask>, 2> swing_ankle;
+  std::array<std::unique_ptr<wholebody::OrientationTask>, 2> foot_orientation;
+  std::array<std::unique_ptr<wholebody::SelectionTask>, 2> foot_pitch;  // world y row (swing_foot_level)
+  std::array<Eigen::Matrix3d, 2> foot_flat_R{Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity()};  // at lift
   std::array<std::unique_ptr<wholebody::PointTask>, 2> swing_foot;
   std::unique_ptr<wholebody::OrientationTask> torso_orientation;
   std::unique_ptr<wholebody::PointTask> torso_position;
@@ -52,6 +58,7 @@ struct BalanceController::Impl {
 
   // Per-tick storage.
   Eigen::VectorXd joint_q, joint_v, q, v, qdd_cmd, q_des, qd_des, tau_ff, last_q_des, last_qd_des;
+  Eigen::VectorXd qdd_joint;  // the QP's joint accelerations (0 when fallen)
   Eigen::MatrixXd J_double, J_single;
   Eigen::VectorXd Jdv_double, Jdv_single;
 
@@ -103,6 +110,7 @@ struct BalanceController::Impl {
   bool solve_qp(const wholebody::PhaseInfo& ph);
 
   void write_outputs(const wholebody::PhaseInfo& ph, double* y) const;
+  double actuator_force(int j) const;  // J.force_ff
 };
 
 }  // namespace dmbd::sim

@@ -21,6 +21,7 @@ void BalanceController::Impl::on_events(const wholebody::PhaseInfo& ph) {
   if (ev.phase_started && ph.phase == Phase::Lift) {
     // The other foot carries the robot from now on: the estimator's stance, latched here.
     estimator.set_stance(wholebody::other(sw), foot_point(wholebody::other(sw)));
+    foot_flat_R[static_cast<size_t>(sw)] = data.frames[static_cast<size_t>(foot_frame[static_cast<size_t>(sw)])].X_WF.linear();
     if (landing_pending) {  // it came down in the last step and has settled: where it stands
       landed = foot_point(wholebody::other(sw)).head<2>();
       ++landings;

@@ -118,7 +118,14 @@ void BalanceController::Impl::solve_ik(const wholebody::PhaseInfo& ph) {
     swing_foot[sw]->set_reference(s.position_m, s.velocity_m_s, s.acceleration_m_s2);
     swing_ankle[sw]->update(data);
     swing_foot[sw]->update(data);
-    const wholebody::Task* tasks[] = {hip_yaws.get(), swing_ankle[sw].get(), torso.get(), swing_foot[sw].get()};
+    const wholebody::Task* foot_angle = swing_ankle[sw].get();
+    if (setup.swing_foot_level) {  // the sole kept as it stood, about the world's y axis
+      const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+      foot_orientation[sw]->set_reference(foot_flat_R[sw], zero, zero);
+      foot_pitch[sw]->update(data);
+      foot_angle = foot_pitch[sw].get();
+    }
+    const wholebody::Task* tasks[] = {hip_yaws.get(), foot_angle, torso.get(), swing_foot[sw].get()};
     ik_single->solve(data, J_single, Jdv_single, tasks);
     ik = ik_single.get();
   }
@@ -139,7 +146,10 @@ bool BalanceController::Impl::solve_qp(const wholebody::PhaseInfo& ph) {
   }
   const wholebody::ContactSetting contacts[2] = {setting(ph.foot(Side::Left)), setting(ph.foot(Side::Right))};
   if (qp->solve(data, J_double, Jdv_double, qdd_cmd, contacts) != wholebody::QpStatus::Optimal) return false;
-  for (int j = 0; j < nj; ++j) tau_ff[j] = qp->tau()[j];
+  for (int j = 0; j < nj; ++j) {
+    tau_ff[j] = qp->tau()[j];
+    qdd_joint[j] = qp->qdd()[l.joints[static_cast<size_t>(j)].v_index];
+  }
   return true;
 }
 

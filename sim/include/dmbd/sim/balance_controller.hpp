@@ -22,7 +22,8 @@
 //      every joint is then held where it is with no feedforward (balance.fallen = 1).
 // Its outputs are each joint's targets for that joint's own loop: J.q_des, J.qd_des,
 // J.tau_ff, and for an actuated joint the feedforward actuator force J.force_ff =
-// τ_ff N_l(q) (for joint_impedance_controller.yaml's F_ff).
+// τ_ff N_l(q) (for joint_impedance_controller.yaml's F_ff; with actuator_feedforward
+// plus the actuator's own rotor inertia and damping at the commanded motion).
 //
 // Ports (per joint J of the model, in the model's joint order):
 //   inputs   J.<q_signal>, J.<qd_signal>
@@ -113,10 +114,20 @@ struct BalanceSetup {
   // authors' least-norm step; larger keeps the IK from "moving" the robot about its point
   // contacts, which no joint target can do (wholebody::PrioritizedIk::set_weights).
   double ik_base_weight = 1.0;
+  // Per joint name (a joint not listed: 1): the IK's weight on that joint's Δq, q̇ and q̈
+  // (a larger one: the IK moves it less, e.g. a joint whose actuator saturates first).
+  std::vector<std::pair<std::string, double>> ik_joint_weights;
   // The swing foot's task relative to the torso (its world target less the torso's
   // measured position and velocity) instead of in the world (the authors'): the joints
   // then carry the foot to its foothold while the base falls as the pendulum will.
   bool swing_relative_to_torso = false;
+  // J.force_ff also carries what each actuator's rotor inertia and damping (rotor and
+  // output side) take at the commanded motion, over the drive efficiency (none: τ_ff N_l
+  // alone).
+  bool actuator_feedforward = false;
+  // The swing foot's sole kept level (its pitch about the world's y axis as it stood at
+  // the lift) instead of the swing ankle's joint angle going to swing_ankle_rad.
+  bool swing_foot_level = false;
   BalanceWeightShift weight_shift;
   // Per joint name (a joint not listed: 0, 0); the authors' [80, 170, 170, 170, 5] and
   // [3, 8, 8, 3, 0] per leg by default (balance_controller.cpp).
