@@ -120,7 +120,10 @@ void BalanceController::Impl::make_tasks() {
   w.head(6).setConstant(setup.ik_base_weight);  // the floating base's rotation and translation
   for (const auto& [name, weight] : setup.ik_joint_weights) w[l.joints[static_cast<size_t>(l.joint_index(name))].v_index] = weight;
   ik_single = std::make_unique<wholebody::PrioritizedIk>(nv, 3, std::vector<int>{2, 1, 3, 3});
-  for (wholebody::PrioritizedIk* ik : {ik_double.get(), ik_shift.get(), ik_single.get()}) ik->set_weights(w);
+  for (wholebody::PrioritizedIk* ik : {ik_double.get(), ik_shift.get(), ik_single.get()}) {
+    ik->set_weights(w);
+    ik->set_rates_from_state(setup.ik_rates_from_state);
+  }
   qp = std::make_unique<wholebody::WbcQp>(l, 2, setup.qp);
 }
 

@@ -359,7 +359,7 @@ struct Reader {
   // The balancing controller (balance_controller.hpp), merged key by key into the base's.
   void balance(const YAML::Node& n, VariantSetup& v) const {
     keys(n, "balance", {"stance_posture", "torso_height_m", "swing_ankle_rad", "tvr_point", "rate_hz", "delay_s", "sensors", "estimator",
-                        "motion_capture_noise", "joint_feedback", "task_gains", "ik_base_weight", "ik_joint_weights", "swing_relative_to_torso", "actuator_feedforward",
+                        "motion_capture_noise", "joint_feedback", "task_gains", "ik_base_weight", "ik_joint_weights", "ik_rates_from_state", "swing_relative_to_torso", "actuator_feedforward",
                         "swing_foot_level", "weight_shift", "phases", "tvr", "swing", "qp", "seed",
                         "fall_tilt_rad"});
     BalanceSetup b = v.balance.value_or(BalanceSetup{});
@@ -436,6 +436,7 @@ struct Reader {
         b.ik_joint_weights.push_back({j, rd.number_in(kv.second, "balance.ik_joint_weights." + j, 1e-6, 1e9, "")});
       }
     });
+    optional(n, "ik_rates_from_state", [&](const YAML::Node& x) { b.ik_rates_from_state = rd.boolean(x, "balance.ik_rates_from_state"); });
     optional(n, "ik_base_weight", [&](const YAML::Node& x) { b.ik_base_weight = rd.number_in(x, "balance.ik_base_weight", 1e-6, 1e9, ""); });
     optional(n, "weight_shift", [&](const YAML::Node& x) {
       keys(x, "balance.weight_shift", {"offset_m", "speed_scale"});

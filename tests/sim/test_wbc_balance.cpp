@@ -3,7 +3,9 @@
 // the body lift with the torso held horizontally, released at 4 s): in both variants
 // (every joint by its position controller on its actuator; ideal joints) the body lift
 // ends with the torso origin at the 1.0 m target (±0.01 m) and upright (tilt < 0.02 rad),
-// and the QP's normal forces carry the robot's weight (±2 %: the robot is still); the
+// and the QP's normal forces, averaged over the lift's last 0.1 s, carry the robot's
+// weight (±3 %: the lift's minimum-jerk end decelerates, and the torso task's gains answer
+// the sensors' noise, some ±20 N from tick to tick); the
 // scenario's balance map is checked at its line; end_on_fall ends a falling run early.
 #include <gtest/gtest.h>
 
@@ -17,6 +19,17 @@ namespace dmbd::sim {
 namespace {
 
 double total_mass(const model::RobotDescription& r) { return r.total_mass_kg(); }
+
+// The mean of a signal over the samples in [t0, t1].
+double mean_over(const VariantResult& r, const std::string& signal, double t0, double t1) {
+  const auto& time = r.log.time();
+  const auto& y = r.log.column(signal);
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t k = 0; k < time.size(); ++k)
+    if (time[k] >= t0 - 1e-9 && time[k] <= t1 + 1e-9) sum += y[k], ++n;
+  return n ? sum / n : NAN;
+}
 
 double at_time(const VariantResult& r, const std::string& signal, double t) {
   const auto& time = r.log.time();
@@ -35,11 +48,11 @@ TEST(BalanceScenario, TheStartUpLiftsTheTorsoToItsHeightAndTheFeetCarryTheWeight
     const VariantResult r = run_variant(s, v, o);
     const double weight = total_mass(variant_plant(s, v).robot) * 9.81;
     const double z = at_time(r, "base.z", 4.0), tilt = at_time(r, "base.tilt", 4.0);
-    const double fz = at_time(r, "balance.fz_l", 4.0) + at_time(r, "balance.fz_r", 4.0);
+    const double fz = mean_over(r, "balance.fz_l", 3.9, 4.0) + mean_over(r, "balance.fz_r", 3.9, 4.0);
     std::printf("%s: torso %.4f m, tilt %.4f rad, normal forces %.1f N of %.1f N\n", v.name.c_str(), z, tilt, fz, weight);
     EXPECT_NEAR(z, 1.0, 0.01) << v.name;
     EXPECT_LT(tilt, 0.02) << v.name;
-    EXPECT_NEAR(fz, weight, 0.02 * weight) << v.name;
+    EXPECT_NEAR(fz, weight, 0.03 * weight) << v.name;
     EXPECT_EQ(at_time(r, "balance.qp_failures", 4.0), 0.0) << v.name;
     EXPECT_EQ(at_time(r, "balance.phase", 3.0), 1.0) << v.name;  // body lift
     ASSERT_TRUE(r.timing_us.count("wbc_tick_us_median")) << v.name;
