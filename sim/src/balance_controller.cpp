@@ -9,13 +9,6 @@ namespace dmbd::sim {
 
 namespace {
 
-// The TVR's step period is the phase machine's: double support + lift + swing + landing.
-wholebody::TvrParams tvr_params(const BalanceSetup& s) {
-  wholebody::TvrParams p = s.tvr;
-  p.step_period_s = s.phases.double_support_s + s.phases.lift_s + s.phases.swing_s + s.phases.landing_s;
-  return p;
-}
-
 model::DynamicsOptions floating(double gravity) {
   model::DynamicsOptions o;
   o.base = model::BaseMode::Floating;
@@ -57,7 +50,7 @@ BalanceController::Impl::Impl(const model::RobotDescription& robot, double gravi
                 {s.foot_link[1], collision_centre(robot, s.foot_link[1], s.where)}),
       rng(s.seed),
       phases(s.phases),
-      tvr(tvr_params(s)),
+      tvr(s.tvr),
       swing(s.swing) {}
 
 void BalanceController::Impl::find_frames_and_joints(const model::RobotDescription& robot) {
@@ -78,7 +71,6 @@ void BalanceController::Impl::find_frames_and_joints(const model::RobotDescripti
   nj = static_cast<int>(l.joints.size());
   for (const auto& [name, angle] : setup.stance_posture) joint(name);
   for (const auto& [name, g] : setup.joint_feedback) joint(name);
-  for (const auto& [name, w] : setup.ik_joint_weights) joint(name);
 }
 
 // The tasks of every phase and the three IK problems (both feet, the weight shift, or the
@@ -118,12 +110,8 @@ void BalanceController::Impl::make_tasks() {
   ik_shift = std::make_unique<wholebody::PrioritizedIk>(nv, 6, std::vector<int>{2, 3, 1});
   Eigen::VectorXd w = Eigen::VectorXd::Ones(nv);
   w.head(6).setConstant(setup.ik_base_weight);  // the floating base's rotation and translation
-  for (const auto& [name, weight] : setup.ik_joint_weights) w[l.joints[static_cast<size_t>(l.joint_index(name))].v_index] = weight;
   ik_single = std::make_unique<wholebody::PrioritizedIk>(nv, 3, std::vector<int>{2, 1, 3, 3});
-  for (wholebody::PrioritizedIk* ik : {ik_double.get(), ik_shift.get(), ik_single.get()}) {
-    ik->set_weights(w);
-    ik->set_rates_from_state(setup.ik_rates_from_state);
-  }
+  for (wholebody::PrioritizedIk* ik : {ik_double.get(), ik_shift.get(), ik_single.get()}) ik->set_weights(w);
   qp = std::make_unique<wholebody::WbcQp>(l, 2, setup.qp);
 }
 

@@ -359,7 +359,7 @@ struct Reader {
   // The balancing controller (balance_controller.hpp), merged key by key into the base's.
   void balance(const YAML::Node& n, VariantSetup& v) const {
     keys(n, "balance", {"stance_posture", "torso_height_m", "swing_ankle_rad", "tvr_point", "rate_hz", "delay_s", "sensors", "estimator",
-                        "motion_capture_noise", "joint_feedback", "task_gains", "ik_base_weight", "ik_joint_weights", "ik_rates_from_state", "swing_relative_to_torso", "actuator_feedforward",
+                        "motion_capture_noise", "joint_feedback", "task_gains", "ik_base_weight", "swing_relative_to_torso", "actuator_feedforward",
                         "swing_foot_level", "weight_shift", "phases", "tvr", "swing", "qp", "seed",
                         "fall_tilt_rad"});
     BalanceSetup b = v.balance.value_or(BalanceSetup{});
@@ -428,15 +428,6 @@ struct Reader {
     optional(n, "swing_foot_level", [&](const YAML::Node& x) { b.swing_foot_level = rd.boolean(x, "balance.swing_foot_level"); });
     optional(n, "actuator_feedforward", [&](const YAML::Node& x) { b.actuator_feedforward = rd.boolean(x, "balance.actuator_feedforward"); });
     optional(n, "swing_relative_to_torso", [&](const YAML::Node& x) { b.swing_relative_to_torso = rd.boolean(x, "balance.swing_relative_to_torso"); });
-    optional(n, "ik_joint_weights", [&](const YAML::Node& x) {
-      if (!x.IsMap()) fail(x, "balance.ik_joint_weights: expected a map of joint: weight");
-      b.ik_joint_weights.clear();
-      for (const auto& kv : x) {
-        const std::string j = key(kv.first, "balance.ik_joint_weights");
-        b.ik_joint_weights.push_back({j, rd.number_in(kv.second, "balance.ik_joint_weights." + j, 1e-6, 1e9, "")});
-      }
-    });
-    optional(n, "ik_rates_from_state", [&](const YAML::Node& x) { b.ik_rates_from_state = rd.boolean(x, "balance.ik_rates_from_state"); });
     optional(n, "ik_base_weight", [&](const YAML::Node& x) { b.ik_base_weight = rd.number_in(x, "balance.ik_base_weight", 1e-6, 1e9, ""); });
     optional(n, "weight_shift", [&](const YAML::Node& x) {
       keys(x, "balance.weight_shift", {"offset_m", "speed_scale"});
@@ -445,8 +436,7 @@ struct Reader {
     });
     optional(n, "phases", [&](const YAML::Node& x) { balance_phases(x, b.phases); });
     optional(n, "tvr", [&](const YAML::Node& x) {
-      keys(x, "balance.tvr", {"t_prime_s", "kappa", "com_height_m", "stepping_width_m"});
-      optional(x, "stepping_width_m", [&](const YAML::Node& y) { b.tvr.stepping_width_m = rd.number_in(y, "balance.tvr.stepping_width_m", 0.0, 2.0, "m"); });
+      keys(x, "balance.tvr", {"t_prime_s", "kappa", "com_height_m"});
       optional(x, "t_prime_s", [&](const YAML::Node& y) { b.tvr.t_prime_s = vec2(y, "balance.tvr.t_prime_s"); });
       optional(x, "kappa", [&](const YAML::Node& y) { b.tvr.kappa = vec2(y, "balance.tvr.kappa"); });
       optional(x, "com_height_m", [&](const YAML::Node& y) { b.tvr.com_height_m = rd.number_in(y, "balance.tvr.com_height_m", 0.1, 10.0, "m"); });

@@ -36,27 +36,24 @@ void PrioritizedIk::set_weights(const Eigen::Ref<const Eigen::VectorXd>& w) {
 void PrioritizedIk::solve(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c,
                           const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v, const Task* const* tasks) {
   assert(data.v.size() == nv_);
-  start(data, J_c, Jc_dot_v);
+  start(J_c, Jc_dot_v);
   for (size_t i = 0; i < pinv_.size(); ++i) add_task(data, *tasks[i], static_cast<int>(i));
 }
 
 // The contacts: N₀ = I − J_c⁺ J_c, and the accelerations that keep the contacts still,
 // q̈ = J_c⁺ (−J̇_c v) (zero without contacts).
-void PrioritizedIk::start(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c,
-                          const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v) {
+void PrioritizedIk::start(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v) {
   assert(J_c.cols() == nv_ || J_c.rows() == 0);
   dq_.setZero();
   qd_.setZero();
   if (J_c.rows() == 0) {
     N_.setIdentity();
     qdd_.setZero();
-    if (rates_from_state_) qd_ = data.v;
     return;
   }
   contact_pinv_->compute(weights_, J_c);
   N_ = contact_pinv_->N();
   qdd_.noalias() = -contact_pinv_->Jbar() * Jc_dot_v;
-  if (rates_from_state_) qd_.noalias() = N_ * data.v;
 }
 
 // One task in the null space of those above: the three updates of the header, then

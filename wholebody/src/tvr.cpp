@@ -25,8 +25,6 @@ void validate(const TvrParams& p) {
           "step_lateral_min_m must lie in [0, step_lateral_max_m]");
   require(p.switching_speed_min_m_s >= 0 && p.switching_speed_min_m_s <= p.switching_speed_max_m_s,
           "switching_speed_min_m_s must lie in [0, switching_speed_max_m_s]");
-  require(std::isfinite(p.stepping_width_m) && p.stepping_width_m >= 0, "stepping_width_m must be 0 or more");
-  require(std::isfinite(p.step_period_s) && p.step_period_s > 0, "step_period_s must be positive");
   require(p.slow_time_scale > 0 && p.fast_time_scale > 0, "the time scales must be positive");
 }
 
@@ -48,8 +46,6 @@ double reversal_foothold(double xs_m, double vs_m_s, double omega_per_s, double 
 TvrPlanner::TvrPlanner(const TvrParams& params) : params_(params), omega_(0) {
   validate(params_);
   omega_ = std::sqrt(params_.gravity_m_s2 / params_.com_height_m);
-  const double half_width = 0.5 * params_.stepping_width_m;
-  lateral_bias_ = half_width * (1.0 - std::tanh(0.5 * omega_ * params_.step_period_s) / std::tanh(omega_ * params_.t_prime_s.y()));
 }
 
 TvrPlan TvrPlanner::plan(const TvrInput& in) const {
@@ -62,7 +58,6 @@ TvrPlan TvrPlanner::plan(const TvrInput& in) const {
   for (int i = 0; i < 2; ++i)
     out.foothold_unclamped_m[i] = reversal_foothold(out.switching_com_m[i], out.switching_com_velocity_m_s[i], omega_,
                                                     params_.t_prime_s[i], params_.kappa[i], in.com_desired_m[i]);
-  out.foothold_unclamped_m.y() += (in.swing == Side::Left ? 1.0 : -1.0) * lateral_bias_;
   apply_step_limits(in, out);
   return out;
 }

@@ -3,8 +3,8 @@
 #include "dmbd/wholebody/wbc_qp.hpp"
 
 #include <algorithm>
-
 #include <cassert>
+#include <cmath>
 
 #include "dmbd/base/error.hpp"
 
@@ -39,6 +39,8 @@ WbcQp::WbcQp(const Layout& layout, int num_contacts, const WbcQpParams& params)
   for (int j = 0; j < nj_; ++j)
     limit_[j] = std::min(limit_[j], layout.joints[static_cast<size_t>(j)].limits.effort_Nm);
   if (layout.base_dofs != kBase) throw InputError("whole-body QP: the robot's base must be floating");
+  if (!std::isfinite(params.w_qdd_base) || params.w_qdd_base == 0.0)
+    throw InputError("whole-body QP: w_qdd_base must be positive (or negative for w_qdd)");
   for (int j = 0; j < nj_; ++j)
     if (layout.joints[static_cast<size_t>(j)].v_index != kBase + j)
       throw InputError("whole-body QP: the joints must follow the base in v");

@@ -114,12 +114,6 @@ struct BalanceSetup {
   // authors' least-norm step; larger keeps the IK from "moving" the robot about its point
   // contacts, which no joint target can do (wholebody::PrioritizedIk::set_weights).
   double ik_base_weight = 1.0;
-  // Per joint name (a joint not listed: 1): the IK's weight on that joint's Δq, q̇ and q̈
-  // (a larger one: the IK moves it less, e.g. a joint whose actuator saturates first).
-  std::vector<std::pair<std::string, double>> ik_joint_weights;
-  // The IK's rates start from the measured ones (wholebody::PrioritizedIk::
-  // set_rates_from_state): q̇_des then leaves the fall about the stance foot alone.
-  bool ik_rates_from_state = false;
   // The swing foot's task relative to the torso (its world target less the torso's
   // measured position and velocity) instead of in the world (the authors'): the joints
   // then carry the foot to its foothold while the base falls as the pendulum will.

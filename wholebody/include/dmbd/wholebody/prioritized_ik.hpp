@@ -52,22 +52,15 @@ class PrioritizedIk {
   const Eigen::VectorXd& qdd() const { return qdd_; }      // accelerations (v)
   const Eigen::MatrixXd& null_space() const { return N_; } // after the last task
 
-  // Rates from the state (off at construction, the authors'): q̇ starts from the current
-  // rate projected onto the contacts' null space, N₀ v, instead of 0, so that a motion
-  // no task asks about (a floating base falling about its point contacts) keeps its rate
-  // instead of being commanded to stop.
-  void set_rates_from_state(bool on) { rates_from_state_ = on; }
-
   // One positive weight per v coordinate (all 1 at construction). Throws InputError for
   // a size other than nv or a weight that is not positive and finite. Not for a tick.
   void set_weights(const Eigen::Ref<const Eigen::VectorXd>& w);
 
  private:
-  void start(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v);
+  void start(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v);
   void add_task(const ModelData& data, const Task& task, int i);
 
   int nv_;
-  bool rates_from_state_ = false;
   Eigen::LLT<Eigen::MatrixXd> weights_;  // J⁺ is the A-weighted inverse with A = W (I by default)
   std::unique_ptr<DynamicallyConsistentInverse> contact_pinv_;
   std::vector<std::unique_ptr<DynamicallyConsistentInverse>> pinv_;       // per task

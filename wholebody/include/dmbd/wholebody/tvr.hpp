@@ -26,15 +26,6 @@
 // by the difference, which is the caller's to do. Set switching_speed_max_m_s to
 // infinity to turn the rule off.
 //
-// Stepping in place (not in the authors' planner; 0 by default: none): the lateral
-// foothold gets a bias σ b, σ = +1 for a left foot and −1 for a right one, with
-//   b = (w₀/2) [1 − tanh(ω T₀/2) coth(ω t′_y)],  w₀ = stepping_width_m, T₀ = step_period_s,
-// which makes the symmetric orbit with feet w₀ apart (the CoM crossing the middle at
-// (w₀/2) ω tanh(ω T₀/2) at each touch-down) the planner's fixed point. Without it the
-// fixed point of p′ is a zero-width step, the lateral limit holds the feet apart with no
-// feedback, and the orbit drifts; with t′_y > T₀/2 the bias pulls the feet apart and
-// the orbit is reached at the rate the TVR gains set.
-//
 // The caller chooses the CoM state (the authors used the torso position + (0.06, 0) m
 // with its measured velocity) and calls plan() at lift-off and once more at mid-swing,
 // with the time left until touch-down. The planner holds no state; plan() allocates
@@ -54,8 +45,6 @@ struct TvrParams {
   double step_lateral_min_m = 0.20, step_lateral_max_m = 0.55;  // |p′y − stance y|, swing side
   double switching_speed_min_m_s = 0.0, switching_speed_max_m_s = 1.3;
   double slow_time_scale = 1.1, fast_time_scale = 0.9;
-  double stepping_width_m = 0.0;  // w₀ (0: no bias)
-  double step_period_s = 0.38;    // T₀: double support + lift + swing + landing
 };
 
 // The foot that swings (and lands at the planned foothold) is a Side of the phase
@@ -102,7 +91,6 @@ class TvrPlanner {
   TvrPlan plan(const TvrInput& in) const;
 
   double omega_per_s() const { return omega_; }
-  double lateral_bias_m() const { return lateral_bias_; }  // b
   const TvrParams& params() const { return params_; }
 
  private:
@@ -112,7 +100,6 @@ class TvrPlanner {
 
   TvrParams params_;
   double omega_;
-  double lateral_bias_ = 0.0;
 };
 
 }  // namespace dmbd::wholebody

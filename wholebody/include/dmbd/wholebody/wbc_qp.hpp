@@ -36,8 +36,10 @@ struct ContactSetting {
 struct WbcQpParams {
   double mu = 0.3;                   // friction coefficient of the pyramid
   double w_qdd = 100.0;              // weight on Δq̈
-  // Weight on the floating base's six Δq̈ (< 0: w_qdd, the authors'). Lower lets the base
-  // accelerate as the contacts and gravity make it, rather than the joints giving way.
+  // Weight on the floating base's translational Δq̈ (v indices 3–5; < 0: w_qdd, the
+  // authors'). Lower lets the base accelerate as the contacts and gravity make it rather
+  // than the joints giving way. Not 0 (the cost would not be positive definite); the
+  // constructor throws InputError for 0 or a value that is not finite.
   double w_qdd_base = -1.0;
   double torque_limit_Nm = 100.0;    // |τ_j| bound, all joints (the authors' ±100 N m), or the
                                      // joint's own effort limit (Layout) where that is lower
