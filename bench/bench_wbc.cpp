@@ -84,7 +84,8 @@ void BM_WbcModelTermsOnly(benchmark::State& state) {
 BENCHMARK(BM_WbcModelTermsOnly);
 
 // The controller fed a still robot in its stance posture, advanced to the phase asked
-// for (range 0: double support, at the first step's start; 1: mid-swing), then ticked
+// for (range 0: double support, at the first step's start; 1: mid-swing; range 1: the
+// kinematic estimator; range 2: balance.yaml's options instead of the authors'), then ticked
 // there (each tick advances the phase machine; the range keeps it in that phase by
 // starting over when it leaves).
 void BM_BalanceTick(benchmark::State& state) {
@@ -93,6 +94,16 @@ void BM_BalanceTick(benchmark::State& state) {
   setup.estimator = state.range(1) ? sim::BalanceEstimator::Kinematic : sim::BalanceEstimator::MotionCapture;
   setup.phases.joint_move_s = setup.phases.body_lift_s = 0.05;
   setup.phases.body_lift_start_force_N = 300;
+  if (state.range(2)) {  // the options balance.yaml sets (its weight shift aside)
+    setup.tvr_point = sim::TvrPoint::Torso;
+    setup.ik_base_weight = 1000;
+    setup.swing_relative_to_torso = setup.swing_foot_level = setup.actuator_feedforward = true;
+    setup.task_gains.torso = {200, 28};
+    setup.task_gains.swing_foot = {300, 35};
+    setup.task_gains.joints = {200, 28};
+    setup.qp.w_qdd = 1000;
+    setup.qp.w_qdd_base = 10;
+  }
   const bool swing = state.range(0) == 1;
   if (!swing) setup.phases.double_support_s = 1e6;  // stays in double support
   const std::vector<std::pair<std::string, double>> q0 = {
@@ -122,7 +133,14 @@ void BM_BalanceTick(benchmark::State& state) {
     }
   }
 }
-BENCHMARK(BM_BalanceTick)->ArgNames({"swing", "kinematic"})->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1});
+BENCHMARK(BM_BalanceTick)
+    ->ArgNames({"swing", "kinematic", "shipped"})
+    ->Args({0, 0, 0})
+    ->Args({1, 0, 0})
+    ->Args({0, 1, 0})
+    ->Args({1, 1, 0})
+    ->Args({0, 0, 1})
+    ->Args({1, 0, 1});
 
 }  // namespace
 
