@@ -71,16 +71,26 @@ namespace dmbd::sim {
 namespace {
 
 // The balancing controller fed a still robot in its stance posture (level IMU): its
-// ticks go through the joint move, the body lift, double support, lift, the swing's start
-// (TVR, the spline) and mid-swing (the replan) with either estimator; none allocates
-// after the first.
-void expect_no_allocation_in_balance_steps(BalanceEstimator estimator) {
+// ticks go through the joint move, the body lift (and the weight shift with the shipped
+// options), double support, lift, the swing's start (TVR, the spline) and mid-swing (the
+// replan) with either estimator; none allocates after the first.
+void expect_no_allocation_in_balance_steps(BalanceEstimator estimator, bool shipped_options) {
   const model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
   BalanceSetup setup;
   setup.estimator = estimator;
   setup.phases.joint_move_s = 0.05;
   setup.phases.body_lift_s = 0.05;
   setup.phases.body_lift_start_force_N = 300;
+  if (shipped_options) {  // balance.yaml's, with a short weight shift
+    setup.phases.weight_shift_s = 0.05;
+    setup.tvr_point = TvrPoint::Torso;
+    setup.ik_base_weight = 1000;
+    setup.swing_relative_to_torso = setup.swing_foot_level = setup.actuator_feedforward = true;
+    setup.task_gains.torso = setup.task_gains.joints = {200, 28};
+    setup.task_gains.swing_foot = {300, 35};
+    setup.swing.horizontal_fraction = 0.9;
+    setup.qp.w_qdd_base = 10;
+  }
   const std::vector<std::pair<std::string, double>> q0 = {
       {"l_hip_pitch", -0.9}, {"l_knee", 1.7}, {"l_ankle", -0.8}, {"r_hip_pitch", -0.9}, {"r_knee", 1.7}, {"r_ankle", -0.8}};
   BalanceController c(robot, 9.81, model::draco_actuators(), q0, setup, 2000);
@@ -103,12 +113,20 @@ void expect_no_allocation_in_balance_steps(BalanceEstimator estimator) {
 
 TEST(NoAllocation, BalanceControllerStepKinematicEstimator) {
   DMBD_SKIP_UNDER_ASAN();
-  expect_no_allocation_in_balance_steps(BalanceEstimator::Kinematic);
+  expect_no_allocation_in_balance_steps(BalanceEstimator::Kinematic, false);
 }
 
 TEST(NoAllocation, BalanceControllerStepMotionCapture) {
   DMBD_SKIP_UNDER_ASAN();
-  expect_no_allocation_in_balance_steps(BalanceEstimator::MotionCapture);
+  expect_no_allocation_in_balance_steps(BalanceEstimator::MotionCapture, false);
+}
+
+// The same through the weight shift, with the options balance.yaml sets (the torso point,
+// the weighted IK, the swing foot relative to the torso, the level sole, the actuator
+// feedforward, task gains) and the swing's horizontal fraction.
+TEST(NoAllocation, BalanceControllerStepShippedOptions) {
+  DMBD_SKIP_UNDER_ASAN();
+  expect_no_allocation_in_balance_steps(BalanceEstimator::MotionCapture, true);
 }
 
 }  // namespace

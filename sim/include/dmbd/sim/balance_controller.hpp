@@ -86,7 +86,10 @@ struct BalanceTaskGains {
 // arriving with the lateral speed of the stepping orbit toward the first stance foot:
 // v = (w/2) ω tanh(ω T/2), w the feet's lateral distance, T one step (double support +
 // lift + swing + landing), ω the TVR's — the linear inverted pendulum's symmetric orbit,
-// so the first step starts where the steady stepping passes.
+// so the first step starts where the steady stepping passes. That is the plan; on DRACO's
+// point feet the CoM task does not follow it (balance.yaml, 0.3 s: −0.050 of −0.20 m/s at
+// the end; the path asks up to 2.6 m/s² sideways near the middle, where feet 0.19 m apart
+// give about 1.1 m/s²), and the first step is still the smaller for it.
 struct BalanceWeightShift {
   Eigen::Vector2d offset_m = Eigen::Vector2d::Zero();
   double speed_scale = 1.0;  // on the orbit's speed
