@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "event_grid.hpp"
+#include "scenario_reader.hpp"
 
 #include "dmbd/base/file.hpp"
 #include "dmbd/base/yaml_reader.hpp"
@@ -18,550 +18,275 @@
 
 namespace dmbd::sim {
 
+namespace detail {
+
+void Reader::robot(const YAML::Node& n, RobotSetup& r) const {
+  keys(n, "robot", {"urdf", "base", "base_pose", "actuators", "moving", "freeze", "initial", "lock", "payloads", "loads",
+                    "contact", "gravity", "support"});
+  optional(n, "urdf", [&](const YAML::Node& u) { r.urdf = text(u, "robot.urdf") == "draco" ? "draco" : path(u, "robot.urdf"); });
+  optional(n, "base", [&](const YAML::Node& b) {
+    const std::string t = text(b, "robot.base");
+    if (t == "fixed") r.base = model::BaseMode::Fixed;
+    else if (t == "floating") r.base = model::BaseMode::Floating;
+    else fail(b, "robot.base: expected fixed or floating, got '" + t + "'");
+  });
+  optional(n, "base_pose", [&](const YAML::Node& p) { r.X_WB = base_pose(p); });
+  optional(n, "actuators", [&](const YAML::Node& a) {
+    r.all_actuators = a.IsScalar() && a.Scalar() == "all";
+    r.actuators = r.all_actuators ? std::vector<std::string>{} : names(a, "robot.actuators", &r.where, "actuators");
+  });
+  optional(n, "moving", [&](const YAML::Node& m) {
+    r.freeze_all_others = true;
+    r.moving = names(m, "robot.moving", &r.where, "moving");
+  });
+  optional(n, "freeze", [&](const YAML::Node& f) { r.freeze = angles(f, "robot.freeze", &r.where, "freeze"); });
+  optional(n, "initial", [&](const YAML::Node& i) { r.initial = angles(i, "robot.initial", &r.where, "initial"); });
+  optional(n, "lock", [&](const YAML::Node& l) { r.lock = angles(l, "robot.lock", &r.where, "lock"); });
+  optional(n, "payloads", [&](const YAML::Node&) { payloads(n, r); });
+  optional(n, "loads", [&](const YAML::Node&) { loads(n, r); });
+  optional(n, "contact", [&](const YAML::Node& c) { r.contact = boolean(c, "robot.contact"); });
+  optional(n, "gravity", [&](const YAML::Node& g) { r.gravity_m_s2 = number(g, "robot.gravity"); });
+  optional(n, "support", [&](const YAML::Node& x) { support(x, r); });
+}
+
+// The start-up support of a floating base (SupportSpec, simulation.hpp).
+void Reader::support(const YAML::Node& x, RobotSetup& r) const {
+  keys(x, "robot.support", {"release_s", "stiffness_N_per_m", "damping_N_s_per_m", "height_m"});
+  SupportSpec s;
+  s.release_s = rd.number_in(required(x, "release_s", "robot.support"), "robot.support.release_s", 0.0, 1e6, "s");
+  optional(x, "stiffness_N_per_m", [&](const YAML::Node& y) { s.stiffness_N_per_m = rd.number_in(y, "robot.support.stiffness_N_per_m", 0.0, 1e9, "N/m"); });
+  optional(x, "damping_N_s_per_m", [&](const YAML::Node& y) { s.damping_N_s_per_m = rd.number_in(y, "robot.support.damping_N_s_per_m", 0.0, 1e9, "N s/m"); });
+  optional(x, "height_m", [&](const YAML::Node& y) { s.height_m = rd.number_in(y, "robot.support.height_m", 0.01, 10.0, "m"); });
+  r.support = s;
+  r.where["support"] = at(x);
+}
+
+Eigen::Isometry3d Reader::base_pose(const YAML::Node& p) const {
+  keys(p, "robot.base_pose", {"xyz", "rpy"});
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  if (p["xyz"]) X.translation() = vec3(p["xyz"], "robot.base_pose.xyz");
+  if (p["rpy"]) {
+    const Eigen::Vector3d rpy = vec3(p["rpy"], "robot.base_pose.rpy");
+    X.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+  }
+  return X;
+}
+
+void Reader::payloads(const YAML::Node& n, RobotSetup& r) const {
+  r.payloads.clear();
+  each(list(n, "payloads", "robot.payloads"), [&](const YAML::Node& e) {
+    keys(e, "robot.payloads", {"link", "mass_kg", "com", "inertia_kgm2"});
+    Payload p;
+    p.link = text(required(e, "link", "robot.payloads"), "payload.link");
+    p.mass_kg = positive(required(e, "mass_kg", "robot.payloads"), "payload.mass_kg");
+    r.where["payloads:" + p.link] = at(e["link"]);
+    if (e["com"]) p.com_L = vec3(e["com"], "payload.com");
+    if (e["inertia_kgm2"]) p.inertia_kgm2 = vec3(e["inertia_kgm2"], "payload.inertia_kgm2");
+    r.payloads.push_back(p);
+  });
+}
+
+void Reader::loads(const YAML::Node& n, RobotSetup& r) const {
+  r.loads.clear();
+  each(list(n, "loads", "robot.loads"), [&](const YAML::Node& e) {
+    keys(e, "robot.loads", {"joint", "reflected_mass_kg"});
+    r.loads.push_back({text(required(e, "joint", "robot.loads"), "load.joint"),
+                       positive(required(e, "reflected_mass_kg", "robot.loads"), "load.reflected_mass_kg")});
+    r.where["loads:" + r.loads.back().joint] = at(e["joint"]);
+  });
+}
+
+ControllerSetup Reader::controller(const YAML::Node& n) const {
+  keys(n, "controller", {"name", "diagram", "parameters", "rate_hz", "delay_s", "scalar", "word_bits", "inputs", "outputs"});
+  ControllerSetup c;
+  if (!n["name"] || !n["diagram"]) fail(n, "controller: expected 'name' and 'diagram'");
+  c.where = at(n["name"]);
+  c.name = text(n["name"], "controller.name");
+  const std::string ctx = "controller '" + c.name + "'";
+  optional(n, "diagram", [&](const YAML::Node& d) { c.diagram = path(d, ctx + ".diagram"); });
+  optional(n, "parameters", [&](const YAML::Node& p) { c.parameters = angles(p, ctx + ".parameters"); });
+  optional(n, "rate_hz", [&](const YAML::Node& r) { c.rate_hz = rate(r, "controller.rate_hz"); });
+  optional(n, "delay_s", [&](const YAML::Node& d) {
+    const double delay = rd.number_in(d, "controller.delay_s", 0.0, 1e9, "s");
+    if (delay > 1.0 / c.rate_hz)
+      fail(d, fmt::format("controller.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, c.rate_hz, 1.0 / c.rate_hz));
+    c.delay_s = delay;
+  });
+  optional(n, "scalar", [&](const YAML::Node& s) {
+    const std::string t = text(s, "controller.scalar");
+    if (t == "double") c.scalar = Scalar::Double;
+    else if (t == "float") c.scalar = Scalar::Float;
+    else if (t == "fixed") c.scalar = Scalar::Fixed;
+    else fail(s, "controller.scalar: expected double, float or fixed, got '" + t + "'");
+  });
+  optional(n, "word_bits", [&](const YAML::Node& w) {
+    c.word_bits = static_cast<int>(integer(w, "controller.word_bits", 16, 32));
+    if (c.word_bits != 16 && c.word_bits != 32) fail(w, "controller.word_bits: expected 16 or 32");
+  });
+  for (const char* side : {"inputs", "outputs"}) rd.guard([&] { ports(n, side, c); });
+  return c;
+}
+
+// The controller's program ports bound to bus signals.
+void Reader::ports(const YAML::Node& n, const std::string& side, ControllerSetup& c) const {
+  const std::string ctx = "controller '" + c.name + "'." + side;
+  if (!n[side]) fail(n, "controller '" + c.name + "': expected '" + side + "' (program port: bus signal)");
+  if (!n[side].IsMap()) fail(n[side], ctx + ": expected a map of port: signal");
+  const bool inputs = side == "inputs";
+  for (const auto& kv : n[side]) {
+    rd.guard([&] {
+      (inputs ? c.inputs : c.outputs).emplace_back(key(kv.first, ctx), text(kv.second, side));
+      (inputs ? c.input_where : c.output_where).push_back(at(kv.second));
+    });
+  }
+}
+
+void Reader::integration(const YAML::Node& n, IntegrationSetup& in) const {
+  keys(n, "integration", {"mode", "step_s", "accuracy"});
+  optional(n, "mode", [&](const YAML::Node& m) {
+    const std::string t = text(m, "integration.mode");
+    if (t == "fixed") in.mode = model::Integration::Fixed;
+    else if (t == "accurate") in.mode = model::Integration::Accurate;
+    else fail(m, "integration.mode: expected fixed or accurate, got '" + t + "'");
+  });
+  optional(n, "step_s", [&](const YAML::Node& s) {
+    const double step = positive(s, "integration.step_s");
+    if (step > 0.01) fail(s, "integration.step_s: " + fmt::format("{}", step) + " s is longer than 10 ms (expected 0.1 to 2 ms)");
+    in.step_s = step;
+  });
+  optional(n, "accuracy", [&](const YAML::Node& a) {
+    const double acc = positive(a, "integration.accuracy");
+    if (acc >= 0.1) fail(a, "integration.accuracy: " + fmt::format("{}", acc) + " is not a small relative accuracy (expected 1e-8 to 1e-3)");
+    in.accuracy = acc;
+  });
+}
+
+// Fields a variant may override (everything but frames, plots, experiment).
+void Reader::variant_fields(const YAML::Node& n, VariantSetup& v) const {
+  optional(n, "robot", [&](const YAML::Node& r) { robot(r, v.robot); });
+  optional(n, "controllers", [&](const YAML::Node& cs) {
+    v.controllers.clear();
+    if (!cs.IsSequence()) fail(cs, "controllers: expected a list");
+    each(cs, [&](const YAML::Node& c) { v.controllers.push_back(controller(c)); });
+  });
+  optional(n, "references", [&](const YAML::Node& rs) {
+    v.references.clear();
+    if (!rs.IsMap()) fail(rs, "references: expected a map of name: source");
+    for (const auto& kv : rs)
+      rd.guard([&] {
+        const std::string name = key(kv.first, "references");
+        v.references.push_back({name, source(kv.second, "reference '" + name + "'"), at(kv.first)});
+      });
+  });
+  optional(n, "forces", [&](const YAML::Node&) { forces(n, v); });
+  optional(n, "duration_s", [&](const YAML::Node& d) { v.duration_s = duration(d, "duration_s"); });
+  optional(n, "log_rate_hz", [&](const YAML::Node& r) { v.log_rate_hz = rate(r, "log_rate_hz"); });
+  optional(n, "sensors", [&](const YAML::Node& s) { sensors(s, v); });
+  optional(n, "integration", [&](const YAML::Node& i) { integration(i, v.integration); });
+  optional(n, "thermal", [&](const YAML::Node& t) { thermal(t, v); });
+  optional(n, "osc", [&](const YAML::Node& o) { osc(o, v); });
+  optional(n, "balance", [&](const YAML::Node& b) { balance(b, v); });
+  optional(n, "end_on_fall", [&](const YAML::Node& e) { end_on_fall(e, v); });
+}
+
+// EndOnFall (simulation.hpp): true, false, or a map of its two thresholds.
+void Reader::end_on_fall(const YAML::Node& n, VariantSetup& v) const {
+  if (n.IsScalar()) {
+    v.end_on_fall = boolean(n, "end_on_fall") ? std::optional<EndOnFall>(EndOnFall{}) : std::nullopt;
+    return;
+  }
+  keys(n, "end_on_fall", {"torso_below_m", "tilt_above_rad"});
+  EndOnFall e;
+  optional(n, "torso_below_m", [&](const YAML::Node& x) { e.torso_below_m = rd.number_in(x, "end_on_fall.torso_below_m", 0.0, 10.0, "m"); });
+  optional(n, "tilt_above_rad", [&](const YAML::Node& x) { e.tilt_above_rad = rd.number_in(x, "end_on_fall.tilt_above_rad", 0.0, M_PI, "rad"); });
+  v.end_on_fall = e;
+}
+
+// Three gains: one number for every axis, or a list of three.
+Eigen::Vector3d Reader::gains3(const YAML::Node& n, const std::string& what) const {
+  if (n.IsScalar()) return Eigen::Vector3d::Constant(rd.number_in(n, what, 0.0, 1e9, ""));
+  const Eigen::Vector3d g = vec3(n, what);
+  if ((g.array() < 0).any()) fail(n, what + ": expected gains of 0 or more");
+  return g;
+}
+
+// The operational space controller (osc_controller.hpp), merged key by key into the
+// base's (a variant may give only its trajectory).
+void Reader::osc(const YAML::Node& n, VariantSetup& v) const {
+  keys(n, "osc", {"link", "point", "trajectory", "kp", "kd", "posture", "rate_hz", "delay_s", "sensors", "compensate_load_damping"});
+  OscSetup o = v.osc.value_or(OscSetup{});
+  o.where = at(n);
+  optional(n, "link", [&](const YAML::Node& x) { o.link = text(x, "osc.link"); });
+  optional(n, "point", [&](const YAML::Node& x) { o.point_L = vec3(x, "osc.point"); });
+  optional(n, "trajectory", [&](const YAML::Node& t) {
+    keys(t, "osc.trajectory", {"amplitude_m", "frequency_hz", "ramp_s"});
+    optional(t, "amplitude_m", [&](const YAML::Node& x) { o.trajectory.amplitude_m = vec3(x, "osc.trajectory.amplitude_m"); });
+    optional(t, "frequency_hz", [&](const YAML::Node& x) { o.trajectory.frequency_hz = rd.number_in(x, "osc.trajectory.frequency_hz", 0.0, 1e3, "Hz"); });
+    optional(t, "ramp_s", [&](const YAML::Node& x) { o.trajectory.ramp_s = rd.number_in(x, "osc.trajectory.ramp_s", 0.0, 1e6, "s"); });
+  });
+  optional(n, "kp", [&](const YAML::Node& x) { o.kp = gains3(x, "osc.kp"); });
+  optional(n, "kd", [&](const YAML::Node& x) { o.kd = gains3(x, "osc.kd"); });
+  optional(n, "posture", [&](const YAML::Node& p) {
+    keys(p, "osc.posture", {"kp", "kd"});
+    optional(p, "kp", [&](const YAML::Node& x) { o.posture_kp = rd.number_in(x, "osc.posture.kp", 0.0, 1e9, "1/s^2"); });
+    optional(p, "kd", [&](const YAML::Node& x) { o.posture_kd = rd.number_in(x, "osc.posture.kd", 0.0, 1e9, "1/s"); });
+  });
+  optional(n, "rate_hz", [&](const YAML::Node& r) { o.rate_hz = rate(r, "osc.rate_hz"); });
+  optional(n, "delay_s", [&](const YAML::Node& d) {
+    const double delay = rd.number_in(d, "osc.delay_s", 0.0, 1e9, "s");
+    if (delay > 1.0 / o.rate_hz)
+      fail(d, fmt::format("osc.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, o.rate_hz, 1.0 / o.rate_hz));
+    o.delay_s = delay;
+  });
+  optional(n, "compensate_load_damping",
+           [&](const YAML::Node& x) { o.compensate_load_damping = boolean(x, "osc.compensate_load_damping"); });
+  optional(n, "sensors", [&](const YAML::Node& x) {
+    keys(x, "osc.sensors", {"q", "qd"});
+    optional(x, "q", [&](const YAML::Node& y) { o.q_signal = text(y, "osc.sensors.q"); });
+    optional(x, "qd", [&](const YAML::Node& y) { o.qd_signal = text(y, "osc.sensors.qd"); });
+  });
+  v.osc = o;
+}
+
+void Reader::forces(const YAML::Node& n, VariantSetup& v) const {
+  v.forces.clear();
+  each(list(n, "forces", "forces"), [&](const YAML::Node& e) {
+    keys(e, "force", {"link", "point", "direction", "source"});
+    ForceSpec f;
+    f.link = text(required(e, "link", "force"), "force.link");
+    f.where = at(e["link"]);
+    if (e["point"]) f.point_L = vec3(e["point"], "force.point");
+    if (e["direction"]) f.direction_W = vec3(e["direction"], "force.direction");
+    if (!e["source"]) fail(e, "force: expected 'source'");
+    f.source = source(e["source"], "force.source");
+    v.forces.push_back(f);
+  });
+}
+
+void Reader::sensors(const YAML::Node& s, VariantSetup& v) const {
+  keys(s, "sensors", {"noise", "seed", "force_noise_N"});
+  optional(s, "noise", [&](const YAML::Node& x) { v.sensor_noise = boolean(x, "sensors.noise"); });
+  optional(s, "seed", [&](const YAML::Node& x) { v.seed = static_cast<uint64_t>(integer(x, "sensors.seed", 0, kMaxExactInteger)); });
+  optional(s, "force_noise_N", [&](const YAML::Node& x) { v.force_noise_N = rd.number_in(x, "sensors.force_noise_N", 0.0, 1e9, "N"); });
+}
+
+void Reader::thermal(const YAML::Node& t, VariantSetup& v) const {
+  keys(t, "thermal", {"cooling"});
+  if (!t["cooling"]) fail(t, "thermal: expected 'cooling: on, off or both'");
+  const std::string c = t["cooling"].IsScalar() ? t["cooling"].Scalar() : "";
+  if (c == "on" || c == "true") v.cooling = Cooling::On;
+  else if (c == "off" || c == "false") v.cooling = Cooling::Off;
+  else if (c == "both") v.cooling = Cooling::Both;
+  else fail(t["cooling"], "thermal.cooling: expected on, off or both");
+}
+
+}  // namespace detail
+
 namespace {
 
-namespace fs = std::filesystem;
-
-// Limits of what a scenario may ask for (each checked at its line).
-constexpr std::size_t kMaxVariants = 1000;
-constexpr long long kMaxFramePixels = 16384;
-constexpr long long kMaxFrames = 1000000;
-constexpr long long kMaxExactInteger = 1LL << 53;  // doubles hold every integer up to here
-
-// The scenario's reading on top of yaml::Reader (which records every problem): a
-// function that meets a wrong value records it and throws yaml::Skip, and optional()
-// and each list entry catch it, so that one mistake loses only its own value.
-struct Reader {
-  mutable yaml::Reader rd;
-  std::string dir;
-
-  std::string at(const YAML::Node& n) const { return rd.at(n).str(); }
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const { rd.fail(n, what); }
-  // f(map[key]) when the map has the key; its problems recorded and reading going on.
-  template <class F>
-  void optional(const YAML::Node& map, const char* key, F&& f) const {
-    if (const YAML::Node v = map[key]) rd.guard([&] { f(v); });
-  }
-  // f(e) for each entry of a list, each one's problems recorded apart.
-  template <class F>
-  void each(const YAML::Node& list, F&& f) const {
-    for (const auto& e : list) rd.guard([&] { f(e); });
-  }
-  // The value of a key the map n must have.
-  YAML::Node required(const YAML::Node& n, const char* key, const std::string& what) const {
-    if (!n[key]) fail(n, what + ": expected '" + key + "'");
-    return n[key];
-  }
-  std::string key(const YAML::Node& k, const std::string& what) const { return rd.key(k, what); }
-  YAML::Node list(const YAML::Node& map, const char* key, const std::string& what) const { return rd.list(map, key, what); }
-  // A map with an unknown key is not read further: its missing keys may be misspelt ones.
-  void keys(const YAML::Node& n, const std::string& what, std::initializer_list<const char*> allowed) const {
-    if (!rd.keys(n, std::vector<std::string>(allowed.begin(), allowed.end()), what)) throw yaml::Skip{};
-  }
-  double number(const YAML::Node& n, const std::string& what) const { return rd.number(n, what); }
-  long long integer(const YAML::Node& n, const std::string& what, long long lo, long long hi) const {
-    return rd.integer(n, what, lo, hi);
-  }
-  double positive(const YAML::Node& n, const std::string& what) const { return rd.positive(n, what); }
-  std::string text(const YAML::Node& n, const std::string& what) const { return rd.text(n, what); }
-  bool boolean(const YAML::Node& n, const std::string& what) const { return rd.boolean(n, what); }
-  // A rate of the co-simulation's nanosecond grid.
-  double rate(const YAML::Node& n, const std::string& what) const {
-    const double r = positive(n, what);
-    if (const std::string problem = rate_problem(r); !problem.empty()) fail(n, what + ": " + problem);
-    return r;
-  }
-  double duration(const YAML::Node& n, const std::string& what) const {
-    const double d = positive(n, what);
-    if (!(d < kMaxDurationS)) fail(n, fmt::format("{}: {:g} s is too long (the simulation counts nanoseconds: below 1e9 s)", what, d));
-    return d;
-  }
-  Eigen::Vector3d vec3(const YAML::Node& n, const std::string& what) const {
-    if (!n.IsSequence() || n.size() != 3) fail(n, what + ": expected a list of 3 numbers");
-    return {number(n[0], what), number(n[1], what), number(n[2], what)};
-  }
-  // A name or a list of names; where[prefix + ":" + name] is set to each one's location.
-  std::vector<std::string> names(const YAML::Node& n, const std::string& what, std::map<std::string, std::string>* where = nullptr,
-                                 const std::string& prefix = "") const {
-    std::vector<std::string> r;
-    if (n.IsScalar()) {
-      if (where) (*where)[prefix + ":" + n.Scalar()] = at(n);
-      return {n.Scalar()};
-    }
-    if (!n.IsSequence()) fail(n, what + ": expected a list of names");
-    for (const auto& e : n) {
-      r.push_back(text(e, what));
-      if (where) (*where)[prefix + ":" + r.back()] = at(e);
-    }
-    return r;
-  }
-  std::vector<std::pair<std::string, double>> angles(const YAML::Node& n, const std::string& what,
-                                                     std::map<std::string, std::string>* where = nullptr, const std::string& prefix = "") const {
-    if (!n.IsMap()) fail(n, what + ": expected a map of joint: value");
-    std::vector<std::pair<std::string, double>> r;
-    for (const auto& kv : n) {
-      const std::string k = key(kv.first, what);
-      r.emplace_back(k, number(kv.second, what + "." + k));
-      if (where) (*where)[prefix + ":" + r.back().first] = at(kv.first);
-    }
-    return r;
-  }
-  std::string path(const YAML::Node& n, const std::string& what) const {
-    const std::string p = text(n, what);
-    const fs::path full = fs::path(p).is_absolute() ? fs::path(p) : fs::path(dir) / p;
-    std::error_code ec;  // the throwing fs::exists escaped on a name too long for the system
-    const bool exists = fs::exists(full, ec);
-    if (ec) fail(n, what + ": cannot use the file '" + full.string() + "': " + ec.message());
-    if (!exists) fail(n, what + ": file '" + full.string() + "' does not exist");
-    return full.lexically_normal().string();
-  }
-
-  Source source(const YAML::Node& n, const std::string& what) const {
-    Source s;
-    if (n.IsSequence()) {  // a sum of sources
-      if (n.size() == 0) fail(n, what + ": expected at least one source");
-      s = source(n[0], what);
-      for (std::size_t k = 1; k < n.size(); ++k) s.plus.push_back(source(n[k], what));
-      return s;
-    }
-    if (n.IsScalar()) {
-      s.offset = number(n, what);
-      return s;
-    }
-    keys(n, what, {"type", "value", "offset", "amplitude", "start_s", "duration_s", "freq_hz", "f0_hz", "f1_hz", "ramp_s", "steps"});
-    if (!n["type"]) fail(n, what + ": expected 'type' (constant, steps, sine or chirp)");
-    const std::string type = text(n["type"], what + ".type");
-    if (n["offset"]) s.offset = number(n["offset"], what + ".offset");
-    if (n["value"]) s.offset = number(n["value"], what + ".value");
-    if (n["amplitude"]) s.amplitude = number(n["amplitude"], what + ".amplitude");
-    if (n["start_s"]) s.start_s = number(n["start_s"], what + ".start_s");
-    if (n["duration_s"]) s.duration_s = number(n["duration_s"], what + ".duration_s");
-    if (n["ramp_s"]) s.ramp_s = number(n["ramp_s"], what + ".ramp_s");
-    if (type == "constant") {
-      s.kind = Source::Kind::Constant;
-    } else if (type == "steps") {
-      s.kind = Source::Kind::Steps;
-      if (!n["steps"] || !n["steps"].IsSequence()) fail(n, what + ": a steps source needs 'steps: [[time_s, value], ...]'");
-      double last = -1e300;
-      for (const auto& e : n["steps"]) {
-        if (!e.IsSequence() || e.size() != 2) fail(e, what + ".steps: expected [time_s, value]");
-        const double t = number(e[0], what + ".steps time"), v = number(e[1], what + ".steps value");
-        if (t < last) fail(e, what + ".steps: times must not decrease");
-        last = t;
-        s.steps.emplace_back(t, v);
-      }
-    } else if (type == "sine") {
-      s.kind = Source::Kind::Sine;
-      if (!n["freq_hz"]) fail(n, what + ": a sine needs freq_hz");
-      s.freq_hz = positive(n["freq_hz"], what + ".freq_hz");
-    } else if (type == "chirp") {
-      s.kind = Source::Kind::Chirp;
-      if (!n["f0_hz"] || !n["f1_hz"] || !n["duration_s"]) fail(n, what + ": a chirp needs f0_hz, f1_hz and duration_s");
-      s.f0_hz = positive(n["f0_hz"], what + ".f0_hz");
-      s.f1_hz = positive(n["f1_hz"], what + ".f1_hz");
-      if (!(s.duration_s > 0)) fail(n["duration_s"], what + ".duration_s: expected a positive number");
-    } else {
-      fail(n["type"], what + ": unknown source type '" + type + "' (expected constant, steps, sine or chirp)");
-    }
-    return s;
-  }
-
-
-  void robot(const YAML::Node& n, RobotSetup& r) const {
-    keys(n, "robot", {"urdf", "base", "base_pose", "actuators", "moving", "freeze", "initial", "lock", "payloads", "loads",
-                      "contact", "gravity", "support"});
-    optional(n, "urdf", [&](const YAML::Node& u) { r.urdf = text(u, "robot.urdf") == "draco" ? "draco" : path(u, "robot.urdf"); });
-    optional(n, "base", [&](const YAML::Node& b) {
-      const std::string t = text(b, "robot.base");
-      if (t == "fixed") r.base = model::BaseMode::Fixed;
-      else if (t == "floating") r.base = model::BaseMode::Floating;
-      else fail(b, "robot.base: expected fixed or floating, got '" + t + "'");
-    });
-    optional(n, "base_pose", [&](const YAML::Node& p) { r.X_WB = base_pose(p); });
-    optional(n, "actuators", [&](const YAML::Node& a) {
-      r.all_actuators = a.IsScalar() && a.Scalar() == "all";
-      r.actuators = r.all_actuators ? std::vector<std::string>{} : names(a, "robot.actuators", &r.where, "actuators");
-    });
-    optional(n, "moving", [&](const YAML::Node& m) {
-      r.freeze_all_others = true;
-      r.moving = names(m, "robot.moving", &r.where, "moving");
-    });
-    optional(n, "freeze", [&](const YAML::Node& f) { r.freeze = angles(f, "robot.freeze", &r.where, "freeze"); });
-    optional(n, "initial", [&](const YAML::Node& i) { r.initial = angles(i, "robot.initial", &r.where, "initial"); });
-    optional(n, "lock", [&](const YAML::Node& l) { r.lock = angles(l, "robot.lock", &r.where, "lock"); });
-    optional(n, "payloads", [&](const YAML::Node&) { payloads(n, r); });
-    optional(n, "loads", [&](const YAML::Node&) { loads(n, r); });
-    optional(n, "contact", [&](const YAML::Node& c) { r.contact = boolean(c, "robot.contact"); });
-    optional(n, "gravity", [&](const YAML::Node& g) { r.gravity_m_s2 = number(g, "robot.gravity"); });
-    optional(n, "support", [&](const YAML::Node& x) { support(x, r); });
-  }
-
-  // The start-up support of a floating base (SupportSpec, simulation.hpp).
-  void support(const YAML::Node& x, RobotSetup& r) const {
-    keys(x, "robot.support", {"release_s", "stiffness_N_per_m", "damping_N_s_per_m", "height_m"});
-    SupportSpec s;
-    s.release_s = rd.number_in(required(x, "release_s", "robot.support"), "robot.support.release_s", 0.0, 1e6, "s");
-    optional(x, "stiffness_N_per_m", [&](const YAML::Node& y) { s.stiffness_N_per_m = rd.number_in(y, "robot.support.stiffness_N_per_m", 0.0, 1e9, "N/m"); });
-    optional(x, "damping_N_s_per_m", [&](const YAML::Node& y) { s.damping_N_s_per_m = rd.number_in(y, "robot.support.damping_N_s_per_m", 0.0, 1e9, "N s/m"); });
-    optional(x, "height_m", [&](const YAML::Node& y) { s.height_m = rd.number_in(y, "robot.support.height_m", 0.01, 10.0, "m"); });
-    r.support = s;
-    r.where["support"] = at(x);
-  }
-
-  Eigen::Isometry3d base_pose(const YAML::Node& p) const {
-    keys(p, "robot.base_pose", {"xyz", "rpy"});
-    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    if (p["xyz"]) X.translation() = vec3(p["xyz"], "robot.base_pose.xyz");
-    if (p["rpy"]) {
-      const Eigen::Vector3d rpy = vec3(p["rpy"], "robot.base_pose.rpy");
-      X.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-                    Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-                       .toRotationMatrix();
-    }
-    return X;
-  }
-
-  void payloads(const YAML::Node& n, RobotSetup& r) const {
-    r.payloads.clear();
-    each(list(n, "payloads", "robot.payloads"), [&](const YAML::Node& e) {
-      keys(e, "robot.payloads", {"link", "mass_kg", "com", "inertia_kgm2"});
-      Payload p;
-      p.link = text(required(e, "link", "robot.payloads"), "payload.link");
-      p.mass_kg = positive(required(e, "mass_kg", "robot.payloads"), "payload.mass_kg");
-      r.where["payloads:" + p.link] = at(e["link"]);
-      if (e["com"]) p.com_L = vec3(e["com"], "payload.com");
-      if (e["inertia_kgm2"]) p.inertia_kgm2 = vec3(e["inertia_kgm2"], "payload.inertia_kgm2");
-      r.payloads.push_back(p);
-    });
-  }
-
-  void loads(const YAML::Node& n, RobotSetup& r) const {
-    r.loads.clear();
-    each(list(n, "loads", "robot.loads"), [&](const YAML::Node& e) {
-      keys(e, "robot.loads", {"joint", "reflected_mass_kg"});
-      r.loads.push_back({text(required(e, "joint", "robot.loads"), "load.joint"),
-                         positive(required(e, "reflected_mass_kg", "robot.loads"), "load.reflected_mass_kg")});
-      r.where["loads:" + r.loads.back().joint] = at(e["joint"]);
-    });
-  }
-
-  ControllerSetup controller(const YAML::Node& n) const {
-    keys(n, "controller", {"name", "diagram", "parameters", "rate_hz", "delay_s", "scalar", "word_bits", "inputs", "outputs"});
-    ControllerSetup c;
-    if (!n["name"] || !n["diagram"]) fail(n, "controller: expected 'name' and 'diagram'");
-    c.where = at(n["name"]);
-    c.name = text(n["name"], "controller.name");
-    const std::string ctx = "controller '" + c.name + "'";
-    optional(n, "diagram", [&](const YAML::Node& d) { c.diagram = path(d, ctx + ".diagram"); });
-    optional(n, "parameters", [&](const YAML::Node& p) { c.parameters = angles(p, ctx + ".parameters"); });
-    optional(n, "rate_hz", [&](const YAML::Node& r) { c.rate_hz = rate(r, "controller.rate_hz"); });
-    optional(n, "delay_s", [&](const YAML::Node& d) {
-      const double delay = rd.number_in(d, "controller.delay_s", 0.0, 1e9, "s");
-      if (delay > 1.0 / c.rate_hz)
-        fail(d, fmt::format("controller.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, c.rate_hz, 1.0 / c.rate_hz));
-      c.delay_s = delay;
-    });
-    optional(n, "scalar", [&](const YAML::Node& s) {
-      const std::string t = text(s, "controller.scalar");
-      if (t == "double") c.scalar = Scalar::Double;
-      else if (t == "float") c.scalar = Scalar::Float;
-      else if (t == "fixed") c.scalar = Scalar::Fixed;
-      else fail(s, "controller.scalar: expected double, float or fixed, got '" + t + "'");
-    });
-    optional(n, "word_bits", [&](const YAML::Node& w) {
-      c.word_bits = static_cast<int>(integer(w, "controller.word_bits", 16, 32));
-      if (c.word_bits != 16 && c.word_bits != 32) fail(w, "controller.word_bits: expected 16 or 32");
-    });
-    for (const char* side : {"inputs", "outputs"}) rd.guard([&] { ports(n, side, c); });
-    return c;
-  }
-
-  // The controller's program ports bound to bus signals.
-  void ports(const YAML::Node& n, const std::string& side, ControllerSetup& c) const {
-    const std::string ctx = "controller '" + c.name + "'." + side;
-    if (!n[side]) fail(n, "controller '" + c.name + "': expected '" + side + "' (program port: bus signal)");
-    if (!n[side].IsMap()) fail(n[side], ctx + ": expected a map of port: signal");
-    const bool inputs = side == "inputs";
-    for (const auto& kv : n[side]) {
-      rd.guard([&] {
-        (inputs ? c.inputs : c.outputs).emplace_back(key(kv.first, ctx), text(kv.second, side));
-        (inputs ? c.input_where : c.output_where).push_back(at(kv.second));
-      });
-    }
-  }
-
-  void integration(const YAML::Node& n, IntegrationSetup& in) const {
-    keys(n, "integration", {"mode", "step_s", "accuracy"});
-    optional(n, "mode", [&](const YAML::Node& m) {
-      const std::string t = text(m, "integration.mode");
-      if (t == "fixed") in.mode = model::Integration::Fixed;
-      else if (t == "accurate") in.mode = model::Integration::Accurate;
-      else fail(m, "integration.mode: expected fixed or accurate, got '" + t + "'");
-    });
-    optional(n, "step_s", [&](const YAML::Node& s) {
-      const double step = positive(s, "integration.step_s");
-      if (step > 0.01) fail(s, "integration.step_s: " + fmt::format("{}", step) + " s is longer than 10 ms (expected 0.1 to 2 ms)");
-      in.step_s = step;
-    });
-    optional(n, "accuracy", [&](const YAML::Node& a) {
-      const double acc = positive(a, "integration.accuracy");
-      if (acc >= 0.1) fail(a, "integration.accuracy: " + fmt::format("{}", acc) + " is not a small relative accuracy (expected 1e-8 to 1e-3)");
-      in.accuracy = acc;
-    });
-  }
-
-  // Fields a variant may override (everything but frames, plots, experiment).
-  void variant_fields(const YAML::Node& n, VariantSetup& v) const {
-    optional(n, "robot", [&](const YAML::Node& r) { robot(r, v.robot); });
-    optional(n, "controllers", [&](const YAML::Node& cs) {
-      v.controllers.clear();
-      if (!cs.IsSequence()) fail(cs, "controllers: expected a list");
-      each(cs, [&](const YAML::Node& c) { v.controllers.push_back(controller(c)); });
-    });
-    optional(n, "references", [&](const YAML::Node& rs) {
-      v.references.clear();
-      if (!rs.IsMap()) fail(rs, "references: expected a map of name: source");
-      for (const auto& kv : rs)
-        rd.guard([&] {
-          const std::string name = key(kv.first, "references");
-          v.references.push_back({name, source(kv.second, "reference '" + name + "'"), at(kv.first)});
-        });
-    });
-    optional(n, "forces", [&](const YAML::Node&) { forces(n, v); });
-    optional(n, "duration_s", [&](const YAML::Node& d) { v.duration_s = duration(d, "duration_s"); });
-    optional(n, "log_rate_hz", [&](const YAML::Node& r) { v.log_rate_hz = rate(r, "log_rate_hz"); });
-    optional(n, "sensors", [&](const YAML::Node& s) { sensors(s, v); });
-    optional(n, "integration", [&](const YAML::Node& i) { integration(i, v.integration); });
-    optional(n, "thermal", [&](const YAML::Node& t) { thermal(t, v); });
-    optional(n, "osc", [&](const YAML::Node& o) { osc(o, v); });
-    optional(n, "balance", [&](const YAML::Node& b) { balance(b, v); });
-    optional(n, "end_on_fall", [&](const YAML::Node& e) { end_on_fall(e, v); });
-  }
-
-  // EndOnFall (simulation.hpp): true, false, or a map of its two thresholds.
-  void end_on_fall(const YAML::Node& n, VariantSetup& v) const {
-    if (n.IsScalar()) {
-      v.end_on_fall = boolean(n, "end_on_fall") ? std::optional<EndOnFall>(EndOnFall{}) : std::nullopt;
-      return;
-    }
-    keys(n, "end_on_fall", {"torso_below_m", "tilt_above_rad"});
-    EndOnFall e;
-    optional(n, "torso_below_m", [&](const YAML::Node& x) { e.torso_below_m = rd.number_in(x, "end_on_fall.torso_below_m", 0.0, 10.0, "m"); });
-    optional(n, "tilt_above_rad", [&](const YAML::Node& x) { e.tilt_above_rad = rd.number_in(x, "end_on_fall.tilt_above_rad", 0.0, M_PI, "rad"); });
-    v.end_on_fall = e;
-  }
-
-  Eigen::Vector2d vec2(const YAML::Node& n, const std::string& what) const {
-    if (!n.IsSequence() || n.size() != 2) fail(n, what + ": expected a list of 2 numbers [x, y]");
-    return {number(n[0], what), number(n[1], what)};
-  }
-
-  // The balancing controller (balance_controller.hpp), merged key by key into the base's.
-  void balance(const YAML::Node& n, VariantSetup& v) const {
-    keys(n, "balance", {"stance_posture", "torso_height_m", "swing_ankle_rad", "tvr_point", "rate_hz", "delay_s", "sensors", "estimator",
-                        "motion_capture_noise", "joint_feedback", "task_gains", "ik_base_weight", "swing_relative_to_torso", "actuator_feedforward",
-                        "swing_foot_level", "weight_shift", "phases", "tvr", "swing", "qp", "seed",
-                        "fall_tilt_rad"});
-    BalanceSetup b = v.balance.value_or(BalanceSetup{});
-    b.where = at(n);
-    optional(n, "stance_posture", [&](const YAML::Node& x) { b.stance_posture = angles(x, "balance.stance_posture"); });
-    optional(n, "torso_height_m", [&](const YAML::Node& x) { b.torso_height_m = rd.number_in(x, "balance.torso_height_m", 0.1, 10.0, "m"); });
-    optional(n, "swing_ankle_rad", [&](const YAML::Node& x) { b.swing_ankle_rad = rd.number_in(x, "balance.swing_ankle_rad", -M_PI, M_PI, "rad"); });
-    optional(n, "fall_tilt_rad", [&](const YAML::Node& x) { b.fall_tilt_rad = rd.number_in(x, "balance.fall_tilt_rad", 0.0, M_PI, "rad"); });
-    optional(n, "rate_hz", [&](const YAML::Node& r) { b.rate_hz = rate(r, "balance.rate_hz"); });
-    optional(n, "delay_s", [&](const YAML::Node& d) {
-      const double delay = rd.number_in(d, "balance.delay_s", 0.0, 1e9, "s");
-      if (delay > 1.0 / b.rate_hz)
-        fail(d, fmt::format("balance.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, b.rate_hz, 1.0 / b.rate_hz));
-      b.delay_s = delay;
-    });
-    optional(n, "sensors", [&](const YAML::Node& x) {
-      keys(x, "balance.sensors", {"q", "qd"});
-      optional(x, "q", [&](const YAML::Node& y) { b.q_signal = text(y, "balance.sensors.q"); });
-      optional(x, "qd", [&](const YAML::Node& y) { b.qd_signal = text(y, "balance.sensors.qd"); });
-    });
-    optional(n, "estimator", [&](const YAML::Node& x) {
-      const std::string e = text(x, "balance.estimator");
-      if (e == "kinematic") b.estimator = BalanceEstimator::Kinematic;
-      else if (e == "motion_capture") b.estimator = BalanceEstimator::MotionCapture;
-      else fail(x, "balance.estimator: expected kinematic or motion_capture, got '" + e + "'");
-    });
-    optional(n, "motion_capture_noise", [&](const YAML::Node& x) {
-      keys(x, "balance.motion_capture_noise", {"position_m", "velocity_m_s"});
-      optional(x, "position_m", [&](const YAML::Node& y) { b.mocap_position_noise_m = rd.number_in(y, "balance.motion_capture_noise.position_m", 0.0, 1.0, "m"); });
-      optional(x, "velocity_m_s", [&](const YAML::Node& y) { b.mocap_velocity_noise_m_s = rd.number_in(y, "balance.motion_capture_noise.velocity_m_s", 0.0, 10.0, "m/s"); });
-    });
-    optional(n, "seed", [&](const YAML::Node& x) { b.seed = static_cast<unsigned long long>(integer(x, "balance.seed", 0, kMaxExactInteger)); });
-    optional(n, "joint_feedback", [&](const YAML::Node& x) {
-      if (!x.IsMap()) fail(x, "balance.joint_feedback: expected a map of joint: [kp, kd]");
-      b.joint_feedback.clear();
-      for (const auto& kv : x) {
-        const std::string j = key(kv.first, "balance.joint_feedback");
-        const Eigen::Vector2d g = vec2(kv.second, "balance.joint_feedback." + j);
-        if ((g.array() < 0).any()) fail(kv.second, "balance.joint_feedback." + j + ": expected gains of 0 or more");
-        b.joint_feedback.push_back({j, {g[0], g[1]}});
-      }
-    });
-    optional(n, "tvr_point", [&](const YAML::Node& x) {
-      const char* expected = "balance.tvr_point: expected com or {torso_offset_m: [x, y]}";
-      if (x.IsScalar()) {
-        if (x.as<std::string>() != "com") fail(x, expected);
-        b.tvr_point = TvrPoint::Com;
-        return;
-      }
-      if (!x.IsMap() || !x["torso_offset_m"]) fail(x, expected);
-      keys(x, "balance.tvr_point", {"torso_offset_m"});
-      b.tvr_point = TvrPoint::Torso;
-      b.tvr_torso_offset_m = vec2(x["torso_offset_m"], "balance.tvr_point.torso_offset_m");
-    });
-    optional(n, "task_gains", [&](const YAML::Node& x) {
-      keys(x, "balance.task_gains", {"torso", "swing_foot", "joints", "com"});
-      const std::pair<const char*, JointFeedback*> rows[] = {{"torso", &b.task_gains.torso}, {"swing_foot", &b.task_gains.swing_foot},
-                                                             {"joints", &b.task_gains.joints}, {"com", &b.task_gains.com}};
-      for (const auto& [k, g] : rows)
-        optional(x, k, [&, gains = g](const YAML::Node& y) {
-          const Eigen::Vector2d kpd = vec2(y, std::string("balance.task_gains.") + k);
-          if ((kpd.array() < 0).any()) fail(y, std::string("balance.task_gains.") + k + ": expected gains [kp, kd] of 0 or more");
-          *gains = {kpd[0], kpd[1]};
-        });
-    });
-    optional(n, "swing_foot_level", [&](const YAML::Node& x) { b.swing_foot_level = rd.boolean(x, "balance.swing_foot_level"); });
-    optional(n, "actuator_feedforward", [&](const YAML::Node& x) { b.actuator_feedforward = rd.boolean(x, "balance.actuator_feedforward"); });
-    optional(n, "swing_relative_to_torso", [&](const YAML::Node& x) { b.swing_relative_to_torso = rd.boolean(x, "balance.swing_relative_to_torso"); });
-    optional(n, "ik_base_weight", [&](const YAML::Node& x) { b.ik_base_weight = rd.number_in(x, "balance.ik_base_weight", 1e-6, 1e9, ""); });
-    optional(n, "weight_shift", [&](const YAML::Node& x) {
-      keys(x, "balance.weight_shift", {"offset_m", "speed_scale"});
-      optional(x, "offset_m", [&](const YAML::Node& y) { b.weight_shift.offset_m = vec2(y, "balance.weight_shift.offset_m"); });
-      optional(x, "speed_scale", [&](const YAML::Node& y) { b.weight_shift.speed_scale = rd.number_in(y, "balance.weight_shift.speed_scale", 0.0, 10.0, ""); });
-    });
-    optional(n, "phases", [&](const YAML::Node& x) { balance_phases(x, b.phases); });
-    optional(n, "tvr", [&](const YAML::Node& x) {
-      keys(x, "balance.tvr", {"t_prime_s", "kappa", "com_height_m"});
-      optional(x, "t_prime_s", [&](const YAML::Node& y) { b.tvr.t_prime_s = vec2(y, "balance.tvr.t_prime_s"); });
-      optional(x, "kappa", [&](const YAML::Node& y) { b.tvr.kappa = vec2(y, "balance.tvr.kappa"); });
-      optional(x, "com_height_m", [&](const YAML::Node& y) { b.tvr.com_height_m = rd.number_in(y, "balance.tvr.com_height_m", 0.1, 10.0, "m"); });
-    });
-    optional(n, "swing", [&](const YAML::Node& x) {
-      keys(x, "balance.swing", {"mid_height_m", "landing_vertical_velocity_m_s", "horizontal_fraction"});
-      optional(x, "horizontal_fraction", [&](const YAML::Node& y) {
-        b.swing.horizontal_fraction = rd.number_in(y, "balance.swing.horizontal_fraction", 0.05, 1.0, "");
-      });
-      optional(x, "mid_height_m", [&](const YAML::Node& y) { b.swing.mid_height_m = rd.number_in(y, "balance.swing.mid_height_m", 0.0, 1.0, "m"); });
-      optional(x, "landing_vertical_velocity_m_s", [&](const YAML::Node& y) {
-        b.swing.landing_vertical_velocity_m_s = rd.number_in(y, "balance.swing.landing_vertical_velocity_m_s", -10.0, 0.0, "m/s");
-      });
-    });
-    optional(n, "qp", [&](const YAML::Node& x) {
-      keys(x, "balance.qp", {"mu", "w_qdd", "w_qdd_base", "torque_limit_Nm"});
-      optional(x, "w_qdd_base", [&](const YAML::Node& y) { b.qp.w_qdd_base = rd.number_in(y, "balance.qp.w_qdd_base", 1e-9, 1e12, ""); });
-      optional(x, "mu", [&](const YAML::Node& y) { b.qp.mu = rd.number_in(y, "balance.qp.mu", 0.0, 10.0, ""); });
-      optional(x, "w_qdd", [&](const YAML::Node& y) { b.qp.w_qdd = rd.number_in(y, "balance.qp.w_qdd", 1e-9, 1e12, ""); });
-      optional(x, "torque_limit_Nm", [&](const YAML::Node& y) { b.qp.torque_limit_Nm = rd.number_in(y, "balance.qp.torque_limit_Nm", 0.0, 1e6, "N m"); });
-    });
-    v.balance = b;
-  }
-
-  void balance_phases(const YAML::Node& x, wholebody::PhaseMachineParams& p) const {
-    keys(x, "balance.phases", {"joint_move_s", "body_lift_s", "weight_shift_s", "double_support_s", "lift_s", "swing_s", "landing_s",
-                               "first_swing", "body_lift_start_force_N", "body_lift_end_force_N"});
-    auto dur = [&](const char* k, double& d) {
-      optional(x, k, [&](const YAML::Node& y) { d = rd.number_in(y, std::string("balance.phases.") + k, 1e-4, 1e6, "s"); });
-    };
-    dur("joint_move_s", p.joint_move_s);
-    dur("body_lift_s", p.body_lift_s);
-    optional(x, "weight_shift_s", [&](const YAML::Node& y) { p.weight_shift_s = rd.number_in(y, "balance.phases.weight_shift_s", 0.0, 1e6, "s"); });
-    dur("double_support_s", p.double_support_s);
-    dur("lift_s", p.lift_s);
-    dur("swing_s", p.swing_s);
-    dur("landing_s", p.landing_s);
-    optional(x, "body_lift_start_force_N", [&](const YAML::Node& y) { p.body_lift_start_force_N = rd.number_in(y, "balance.phases.body_lift_start_force_N", 0.0, 1e5, "N"); });
-    optional(x, "body_lift_end_force_N", [&](const YAML::Node& y) { p.body_lift_end_force_N = rd.number_in(y, "balance.phases.body_lift_end_force_N", 0.0, 1e5, "N"); });
-    optional(x, "first_swing", [&](const YAML::Node& y) {
-      const std::string s = text(y, "balance.phases.first_swing");
-      if (s == "left") p.first_swing_side = wholebody::Side::Left;
-      else if (s == "right") p.first_swing_side = wholebody::Side::Right;
-      else fail(y, "balance.phases.first_swing: expected left or right, got '" + s + "'");
-    });
-  }
-
-  // Three gains: one number for every axis, or a list of three.
-  Eigen::Vector3d gains3(const YAML::Node& n, const std::string& what) const {
-    if (n.IsScalar()) return Eigen::Vector3d::Constant(rd.number_in(n, what, 0.0, 1e9, ""));
-    const Eigen::Vector3d g = vec3(n, what);
-    if ((g.array() < 0).any()) fail(n, what + ": expected gains of 0 or more");
-    return g;
-  }
-
-  // The operational space controller (osc_controller.hpp), merged key by key into the
-  // base's (a variant may give only its trajectory).
-  void osc(const YAML::Node& n, VariantSetup& v) const {
-    keys(n, "osc", {"link", "point", "trajectory", "kp", "kd", "posture", "rate_hz", "delay_s", "sensors", "compensate_load_damping"});
-    OscSetup o = v.osc.value_or(OscSetup{});
-    o.where = at(n);
-    optional(n, "link", [&](const YAML::Node& x) { o.link = text(x, "osc.link"); });
-    optional(n, "point", [&](const YAML::Node& x) { o.point_L = vec3(x, "osc.point"); });
-    optional(n, "trajectory", [&](const YAML::Node& t) {
-      keys(t, "osc.trajectory", {"amplitude_m", "frequency_hz", "ramp_s"});
-      optional(t, "amplitude_m", [&](const YAML::Node& x) { o.trajectory.amplitude_m = vec3(x, "osc.trajectory.amplitude_m"); });
-      optional(t, "frequency_hz", [&](const YAML::Node& x) { o.trajectory.frequency_hz = rd.number_in(x, "osc.trajectory.frequency_hz", 0.0, 1e3, "Hz"); });
-      optional(t, "ramp_s", [&](const YAML::Node& x) { o.trajectory.ramp_s = rd.number_in(x, "osc.trajectory.ramp_s", 0.0, 1e6, "s"); });
-    });
-    optional(n, "kp", [&](const YAML::Node& x) { o.kp = gains3(x, "osc.kp"); });
-    optional(n, "kd", [&](const YAML::Node& x) { o.kd = gains3(x, "osc.kd"); });
-    optional(n, "posture", [&](const YAML::Node& p) {
-      keys(p, "osc.posture", {"kp", "kd"});
-      optional(p, "kp", [&](const YAML::Node& x) { o.posture_kp = rd.number_in(x, "osc.posture.kp", 0.0, 1e9, "1/s^2"); });
-      optional(p, "kd", [&](const YAML::Node& x) { o.posture_kd = rd.number_in(x, "osc.posture.kd", 0.0, 1e9, "1/s"); });
-    });
-    optional(n, "rate_hz", [&](const YAML::Node& r) { o.rate_hz = rate(r, "osc.rate_hz"); });
-    optional(n, "delay_s", [&](const YAML::Node& d) {
-      const double delay = rd.number_in(d, "osc.delay_s", 0.0, 1e9, "s");
-      if (delay > 1.0 / o.rate_hz)
-        fail(d, fmt::format("osc.delay_s: {} s is longer than one period of {} Hz ({} s)", delay, o.rate_hz, 1.0 / o.rate_hz));
-      o.delay_s = delay;
-    });
-    optional(n, "compensate_load_damping",
-             [&](const YAML::Node& x) { o.compensate_load_damping = boolean(x, "osc.compensate_load_damping"); });
-    optional(n, "sensors", [&](const YAML::Node& x) {
-      keys(x, "osc.sensors", {"q", "qd"});
-      optional(x, "q", [&](const YAML::Node& y) { o.q_signal = text(y, "osc.sensors.q"); });
-      optional(x, "qd", [&](const YAML::Node& y) { o.qd_signal = text(y, "osc.sensors.qd"); });
-    });
-    v.osc = o;
-  }
-
-  void forces(const YAML::Node& n, VariantSetup& v) const {
-    v.forces.clear();
-    each(list(n, "forces", "forces"), [&](const YAML::Node& e) {
-      keys(e, "force", {"link", "point", "direction", "source"});
-      ForceSpec f;
-      f.link = text(required(e, "link", "force"), "force.link");
-      f.where = at(e["link"]);
-      if (e["point"]) f.point_L = vec3(e["point"], "force.point");
-      if (e["direction"]) f.direction_W = vec3(e["direction"], "force.direction");
-      if (!e["source"]) fail(e, "force: expected 'source'");
-      f.source = source(e["source"], "force.source");
-      v.forces.push_back(f);
-    });
-  }
-
-  void sensors(const YAML::Node& s, VariantSetup& v) const {
-    keys(s, "sensors", {"noise", "seed", "force_noise_N"});
-    optional(s, "noise", [&](const YAML::Node& x) { v.sensor_noise = boolean(x, "sensors.noise"); });
-    optional(s, "seed", [&](const YAML::Node& x) { v.seed = static_cast<uint64_t>(integer(x, "sensors.seed", 0, kMaxExactInteger)); });
-    optional(s, "force_noise_N", [&](const YAML::Node& x) { v.force_noise_N = rd.number_in(x, "sensors.force_noise_N", 0.0, 1e9, "N"); });
-  }
-
-  void thermal(const YAML::Node& t, VariantSetup& v) const {
-    keys(t, "thermal", {"cooling"});
-    if (!t["cooling"]) fail(t, "thermal: expected 'cooling: on, off or both'");
-    const std::string c = t["cooling"].IsScalar() ? t["cooling"].Scalar() : "";
-    if (c == "on" || c == "true") v.cooling = Cooling::On;
-    else if (c == "off" || c == "false") v.cooling = Cooling::Off;
-    else if (c == "both") v.cooling = Cooling::Both;
-    else fail(t["cooling"], "thermal.cooling: expected on, off or both");
-  }
-};
+using namespace detail;
 
 const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "controllers", "references", "forces", "duration_s",
                                                          "log_rate_hz", "sensors", "thermal", "integration", "osc", "balance", "end_on_fall"};
