@@ -72,12 +72,15 @@ void Reader::balance(const YAML::Node& n, VariantSetup& v) const {
     keys(x, "balance.task_gains", {"torso", "swing_foot", "joints", "com"});
     const std::pair<const char*, JointFeedback*> rows[] = {{"torso", &b.task_gains.torso}, {"swing_foot", &b.task_gains.swing_foot},
                                                            {"joints", &b.task_gains.joints}, {"com", &b.task_gains.com}};
-    for (const auto& [k, g] : rows)
-      optional(x, k, [&, gains = g](const YAML::Node& y) {
-        const Eigen::Vector2d kpd = vec2(y, std::string("balance.task_gains.") + k);
-        if ((kpd.array() < 0).any()) fail(y, std::string("balance.task_gains.") + k + ": expected gains [kp, kd] of 0 or more");
+    for (const auto& row : rows) {  // not a structured binding: C++17 lambdas cannot capture one
+      const std::string what = std::string("balance.task_gains.") + row.first;
+      JointFeedback* gains = row.second;
+      optional(x, row.first, [&, gains](const YAML::Node& y) {
+        const Eigen::Vector2d kpd = vec2(y, what);
+        if ((kpd.array() < 0).any()) fail(y, what + ": expected gains [kp, kd] of 0 or more");
         *gains = {kpd[0], kpd[1]};
       });
+    }
   });
   optional(n, "swing_foot_level", [&](const YAML::Node& x) { b.swing_foot_level = rd.boolean(x, "balance.swing_foot_level"); });
   optional(n, "actuator_feedforward", [&](const YAML::Node& x) { b.actuator_feedforward = rd.boolean(x, "balance.actuator_feedforward"); });
