@@ -189,7 +189,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   std::shared_ptr<OscController> osc;
   if (v.osc) {
     osc = osc_controller(s, v, vp, plant, spec.duration_s);
-    spec.controllers.push_back(osc_spec(*v.osc, osc));
+    spec.controllers.push_back(bus_controller_spec("osc", v.osc->delay_s, v.osc->where, osc));
     for (int k = 0; k < plant.num_actuators(); ++k)  // the osc_table experiment's saturation figure
       res.truth[plant.actuator(k).joint + ".current_limit_A"] = plant.actuator(k).current_limit_A;
   }
@@ -197,7 +197,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   std::shared_ptr<BalanceController> balance;
   if (v.balance) {
     balance = balance_controller(s, v, vp, plant, spec.duration_s);
-    spec.controllers.push_back(balance_spec(*v.balance, balance));
+    spec.controllers.push_back(bus_controller_spec("balance", v.balance->delay_s, v.balance->where, balance));
   }
 
   Simulation sim(plant, spec);

@@ -111,14 +111,15 @@ std::shared_ptr<OscController> osc_controller(const Scenario& s, const VariantSe
   return std::make_shared<OscController>(vp.robot, v.robot.X_WB, v.robot.gravity_m_s2, actuators, q0, located, ticks);
 }
 
-ControllerSpec osc_spec(const OscSetup& setup, std::shared_ptr<OscController> osc) {
+ControllerSpec bus_controller_spec(const std::string& name, double delay_s, const std::string& where,
+                                   std::shared_ptr<Controller> c) {
   ControllerSpec cs;
-  cs.name = "osc";
-  cs.delay_s = setup.delay_s;
-  cs.where = setup.where;
-  for (int k = 0; k < osc->num_inputs(); ++k) cs.inputs.push_back(osc->input_name(k));
-  for (int k = 0; k < osc->num_outputs(); ++k) cs.outputs.push_back(osc->output_name(k));
-  cs.controller = std::move(osc);
+  cs.name = name;
+  cs.delay_s = delay_s;
+  cs.where = where;
+  for (int k = 0; k < c->num_inputs(); ++k) cs.inputs.push_back(c->input_name(k));
+  for (int k = 0; k < c->num_outputs(); ++k) cs.outputs.push_back(c->output_name(k));
+  cs.controller = std::move(c);
   return cs;
 }
 
@@ -139,16 +140,6 @@ std::shared_ptr<BalanceController> balance_controller(const Scenario& s, const V
   return std::make_shared<BalanceController>(vp.robot, v.robot.gravity_m_s2, actuators, q0, located, ticks);
 }
 
-ControllerSpec balance_spec(const BalanceSetup& setup, std::shared_ptr<BalanceController> c) {
-  ControllerSpec cs;
-  cs.name = "balance";
-  cs.delay_s = setup.delay_s;
-  cs.where = setup.where;
-  for (int k = 0; k < c->num_inputs(); ++k) cs.inputs.push_back(c->input_name(k));
-  for (int k = 0; k < c->num_outputs(); ++k) cs.outputs.push_back(c->output_name(k));
-  cs.controller = std::move(c);
-  return cs;
-}
 
 void tick_timing(const std::vector<double>& times_us, const std::string& prefix, VariantResult& r) {
   std::vector<double> t = times_us;

@@ -23,14 +23,15 @@ VariantController variant_controller(const Scenario& s, const ControllerSetup& c
 // InputError at the osc map for a floating base.
 std::shared_ptr<OscController> osc_controller(const Scenario& s, const VariantSetup& v, const VariantPlant& vp,
                                               const model::Plant& plant, double duration_s);
-// Its ports bound to the bus signals they are named after.
-ControllerSpec osc_spec(const OscSetup& setup, std::shared_ptr<OscController> osc);
+// A controller whose ports are bound to the bus signals they are named after (the
+// operational space and balancing controllers), with its delay and where it was set up.
+ControllerSpec bus_controller_spec(const std::string& name, double delay_s, const std::string& where,
+                                   std::shared_ptr<Controller> c);
 // The median and largest wall time of its evaluations into r.timing_us.
 // The variant's balancing controller (VariantSetup::balance); throws InputError at the
 // balance map for a fixed base or no contact.
 std::shared_ptr<BalanceController> balance_controller(const Scenario& s, const VariantSetup& v, const VariantPlant& vp,
                                                       const model::Plant& plant, double duration_s);
-ControllerSpec balance_spec(const BalanceSetup& setup, std::shared_ptr<BalanceController> c);
 // The median and largest of a controller's tick times: timing_us[prefix + "_tick_us_median"]
 // and [prefix + "_tick_us_max"].
 void tick_timing(const std::vector<double>& times_us, const std::string& prefix, VariantResult& r);

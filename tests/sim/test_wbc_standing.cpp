@@ -8,6 +8,8 @@
 
 #include "malloc_counter.hpp"
 
+#include "draco_feet.hpp"
+
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/sim/dynamics_model.hpp"
 #include "dmbd/wholebody/wbc_qp.hpp"
@@ -18,13 +20,7 @@ namespace {
 using wholebody::ContactSetting;
 using wholebody::QpStatus;
 
-// The centre of a link's collision spheres (DRACO's feet: four spheres each).
-Eigen::Vector3d collision_centre(const model::RobotDescription& r, const std::string& link) {
-  const auto& shapes = r.links[static_cast<size_t>(r.link_index(link))].collisions;
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto& s : shapes) c += s.X_LG.translation();
-  return c / static_cast<double>(shapes.size());
-}
+using test::collision_centre;
 
 struct Standing {
   model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "draco_feet.hpp"
+
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/sim/dynamics_model.hpp"
 #include "dmbd/wholebody/task.hpp"
@@ -22,13 +24,7 @@ namespace {
 
 constexpr int kNv = 16;  // 6 base + 10 joints
 
-// The centre of a link's collision spheres (DRACO's feet: four spheres each).
-Eigen::Vector3d collision_centre(const model::RobotDescription& r, const std::string& link) {
-  const auto& shapes = r.links[static_cast<size_t>(r.link_index(link))].collisions;
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const auto& s : shapes) c += s.X_LG.translation();
-  return c / static_cast<double>(shapes.size());
-}
+using sim::test::collision_centre;
 
 // Knees bent (hip −0.3, knee 0.6, ankle −0.3 rad on both legs), base 1 m up, at rest
 // unless a base velocity is given.
