@@ -11,10 +11,12 @@
 //                                     (before the fall) in which balance.com_vy changes sign
 //   peak_winding_C {cooled, uncooled} largest knee winding temperature (both knees)
 //   wbc_tick_us {median, max}, real_time_factor, qp_failures (the last count)
-//   pushes [{start_s, duration_s, force_N, direction, survived}]  each interval a force's
+//   pushes [{start_s, duration_s, force_N, direction, survived, lipm}]  each interval a force's
 //                                     source is nonzero, up to the variant's duration; force
 //                                     at its peak (unit direction); survived: no fall within
-//                                     3 s of its end and the run lasted that long
+//                                     3 s of its end and the run lasted that long; lipm: the
+//                                     pendulum's verdict at its end (push_capture.hpp) and
+//                                     push_cp_shift_m, the capture point's shift by the push
 // Figures: balance_com_phase.png (Fig. 7c), balance_joints.png (Fig. 7d),
 // balance_knee_temperature.png, balance_footsteps.png and balance_phases.png.
 #include <algorithm>
@@ -28,6 +30,8 @@
 #include <fmt/format.h>
 
 #include "experiment_support.hpp"
+#include "push_capture.hpp"
+#include "dmbd/wholebody/capture.hpp"
 #include "dmbd/sim/experiments.hpp"
 
 namespace dmbd::sim {
@@ -177,7 +181,20 @@ void find_pushes(const ForceSpec& f, const std::vector<double>& t, double t_end,
   }
 }
 
-nlohmann::json push_metrics(const Run& run, const VariantSetup& v) {
+// The pendulum's verdict at the push's end (push_capture.hpp) and the capture point's
+// shift by the push itself, F/(mω²)(e^{ωτ} − 1) with the horizontal part of F and the
+// robot's total mass.
+nlohmann::json push_lipm(const Run& run, const VariantSetup& v, const Push& p, const std::string& file) {
+  const auto mass = run.r.truth.find("total_mass_kg");
+  if (!v.balance || mass == run.r.truth.end()) return nullptr;
+  nlohmann::json out = detail::push_capture(run.r, *v.balance, p.end_s, file);
+  if (out.is_null()) out = {{"capturable", nullptr}};  // the run ended before, or not stepping
+  const double force = p.peak_N * p.direction.head<2>().norm();
+  out["push_cp_shift_m"] = wholebody::push_capture_point_shift(force, p.end_s - p.start_s, mass->second, detail::pendulum_omega(*v.balance));
+  return out;
+}
+
+nlohmann::json push_metrics(const Run& run, const VariantSetup& v, const std::string& file) {
   std::vector<Push> pushes;
   for (const auto& f : v.forces) find_pushes(f, run.t, std::max(run.t.back(), v.duration_s), pushes);
   std::sort(pushes.begin(), pushes.end(), [](const Push& a, const Push& b) { return a.start_s < b.start_s; });
@@ -189,7 +206,8 @@ nlohmann::json push_metrics(const Run& run, const VariantSetup& v) {
                    {"duration_s", p.end_s - p.start_s},
                    {"force_N", p.peak_N},
                    {"direction", nlohmann::json::array({p.direction.x(), p.direction.y(), p.direction.z()})},
-                   {"survived", survived}});
+                   {"survived", survived},
+                   {"lipm", push_lipm(run, v, p, file)}});
   }
   return out;
 }
@@ -218,7 +236,7 @@ void run_metrics(const Run& run, const Params& p, const VariantSetup& v, const s
     if (const auto it = run.r.timing_us.find(std::string("wbc_tick_us_") + stat); it != run.r.timing_us.end()) m["wbc_tick_us"][stat] = it->second;
   m["real_time_factor"] = run.r.real_time_factor;
   m["qp_failures"] = count(signal(run.r, "balance.qp_failures", file).back());
-  m["pushes"] = push_metrics(run, v);
+  m["pushes"] = push_metrics(run, v, file);
 }
 
 // ---------------------------------------------------------------- figures

@@ -107,6 +107,7 @@ struct BalanceController::Impl {
   void set_torso_reference(const wholebody::PhaseInfo& ph);
   void set_com_reference(const wholebody::PhaseInfo& ph);
   void solve_ik(const wholebody::PhaseInfo& ph);
+  void clamp_to_limits();  // q_des, qd_des and q̈_cmd within the joints' ranges
   bool solve_qp(const wholebody::PhaseInfo& ph);
 
   void write_outputs(const wholebody::PhaseInfo& ph, double* y) const;

@@ -135,6 +135,23 @@ void BalanceController::Impl::solve_ik(const wholebody::PhaseInfo& ph) {
     q_des[j] = joint_q[j] + ik->delta_q()[i];
     qd_des[j] = ik->qd()[i];
   }
+  clamp_to_limits();
+}
+
+// Targets within the joints' ranges: near a singularity (a straight knee) the IK's step
+// grows without bound (a knee target of −20 rad was seen after a push), and no joint
+// can follow a target past its stop. A target clamped at a limit gets no rate or
+// acceleration beyond it.
+void BalanceController::Impl::clamp_to_limits() {
+  const wholebody::Layout& l = model.layout();
+  for (int j = 0; j < nj; ++j) {
+    const wholebody::JointLimits& lim = l.joints[static_cast<size_t>(j)].limits;
+    const int i = l.joints[static_cast<size_t>(j)].v_index;
+    const bool low = q_des[j] <= lim.lower_rad, high = q_des[j] >= lim.upper_rad;
+    q_des[j] = std::clamp(q_des[j], lim.lower_rad, lim.upper_rad);
+    if ((low && qd_des[j] < 0) || (high && qd_des[j] > 0)) qd_des[j] = 0;
+    if ((low && qdd_cmd[i] < 0) || (high && qdd_cmd[i] > 0)) qdd_cmd[i] = 0;
+  }
 }
 
 // q̈_cmd's joint rows get the joint feedback; then the QP with the phase's contact values.

@@ -198,6 +198,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   if (v.balance) {
     balance = balance_controller(s, v, vp, plant, spec.duration_s);
     spec.controllers.push_back(bus_controller_spec("balance", v.balance->delay_s, v.balance->where, balance));
+    res.truth["total_mass_kg"] = plant.total_mass_kg();  // the experiment's push analysis
   }
 
   Simulation sim(plant, spec);
