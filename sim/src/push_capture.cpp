@@ -78,7 +78,9 @@ nlohmann::json push_capture(const VariantResult& r, const BalanceSetup& b, doubl
   }
   const CaptureInterval ix = wholebody::capture_interval_before(w, p.time_to_touch_down_s, step_x, next_x);
   const CaptureInterval iy = wholebody::capture_interval_before(w, p.time_to_touch_down_s, step_y, next_y);
+  const double margin = std::min({ex - ix.lo_m, ix.hi_m - ex, ey - iy.lo_m, iy.hi_m - ey});
   return {{"capturable", ix.contains(ex) && iy.contains(ey)},
+          {"margin_m", margin},
           {"foothold_fixed", p.fixed},
           {"time_to_touch_down_s", p.time_to_touch_down_s},
           {"cp_offset_m", nlohmann::json::array({ex, ey})},

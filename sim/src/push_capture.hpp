@@ -16,7 +16,8 @@
 namespace dmbd::sim::detail {
 
 // At the first log sample at or after end_s; null when there is none or the robot was
-// not stepping then. Fields: capturable, foothold_fixed, time_to_touch_down_s,
+// not stepping then. Fields: capturable, margin_m (the offsets' least distance inside
+// their intervals; negative outside), foothold_fixed, time_to_touch_down_s,
 // cp_offset_m [x, y] (capture point − stance foot), interval_x_m and interval_y_m
 // [lo, hi] (the capturable offsets). Throws InputError (naming file) for a missing signal.
 nlohmann::json push_capture(const VariantResult& r, const BalanceSetup& b, double end_s, const std::string& file);

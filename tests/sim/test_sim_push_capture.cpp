@@ -114,12 +114,14 @@ TEST(SimPushCapture, AFreeStepInDoubleSupportAndAFixedOneLateInTheSwing) {
   ASSERT_EQ(p.size(), 3u);
   const auto& a = p[0].at("lipm");
   EXPECT_TRUE(a.at("capturable").get<bool>());
+  EXPECT_NEAR(a.at("margin_m").get<double>(), 1e-3, 1e-9);  // x 1 mm inside, y mid-way
   EXPECT_FALSE(a.at("foothold_fixed").get<bool>());
   EXPECT_NEAR(a.at("time_to_touch_down_s").get<double>(), 0.365, 1e-9);
   expect_interval(a.at("interval_x_m"), kAx, "A, x");
   expect_interval(a.at("interval_y_m"), kAy, "A, y");
   const auto& b = p[1].at("lipm");
   EXPECT_FALSE(b.at("capturable").get<bool>());  // 1 mm beyond the fixed foothold's reach
+  EXPECT_NEAR(b.at("margin_m").get<double>(), -1e-3, 1e-9);
   EXPECT_TRUE(b.at("foothold_fixed").get<bool>());
   EXPECT_NEAR(b.at("time_to_touch_down_s").get<double>(), 0.07, 1e-9);
   expect_interval(b.at("interval_x_m"), kBx, "B, x");

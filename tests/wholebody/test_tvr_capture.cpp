@@ -105,6 +105,14 @@ TEST(CaptureIntervals, DracoCannotCaptureA100NPushAtTheStepStart) {
   const auto c = capture_intervals(kOmega, kStepS, {kSagittal});
   EXPECT_NEAR(c[0].hi_m, 0.1405, 5e-4);
   EXPECT_NEAR(push_capture_point_shift(100, 0.2, 37, kOmega), 0.2218, 5e-4);
+  // The worst moment for a push to end: just after the mid-swing replan fixed the
+  // foothold (in place), 0.165 s before touch-down. The largest 0.2 s push capturable
+  // then is 35.3 N; a 100 N push is capturable only when it ends with between 0.251 s
+  // and 0.165 s of the swing left (a foothold still free and ξ within reach).
+  const double worst = capture_interval_before(kOmega, 0.165, {0.0, 0.0}, c[0]).hi_m;
+  EXPECT_NEAR(worst / push_capture_point_shift(1.0, 0.2, 37, kOmega), 35.3, 0.1);
+  const double shift = push_capture_point_shift(100, 0.2, 37, kOmega);
+  EXPECT_NEAR(capture_interval_before(kOmega, 0.251, kSagittal, c[0]).hi_m, shift, 1e-3);
 }
 
 TEST(CaptureIntervals, BadInputThrows) {
