@@ -4,16 +4,22 @@
 
 namespace dmbd::blocks {
 
+// The static gain k (continuous).
 TransferFunction gain_block(double k);
-// PD  P + D s, or with a derivative filter P + D s / (tau_d s + 1) when tau_d > 0.
+// PD  P + D s, or with a derivative filter P + D s / (tau_d s + 1) when tau_d > 0
+// (seconds). Without the filter and with d != 0 it is improper (no state-space
+// realisation). InputError for tau_d < 0.
 TransferFunction pd(double p, double d, double tau_d = 0.0);
 // PID with filtered derivative  P + I/s + D s / (tau_d s + 1); tau_d > 0 required
-// when d != 0 so that the block is proper.
+// when d != 0 so that the block is proper (InputError otherwise, and for tau_d < 0).
+// The denominator is always s (tau_d s + 1): with i == 0 the numerator shares the root
+// s = 0, not cancelled (minreal() removes it).
 TransferFunction pid(double p, double i, double d, double tau_d);
 // Butterworth low-pass of order n with -3.01 dB at cutoff_rad_s and unit DC gain:
-// poles on a circle of radius wc at angles pi/2 + (2k+1) pi/(2n).
+// poles on a circle of radius wc at angles pi/2 + (2k+1) pi/(2n). InputError unless
+// 1 <= order <= 20 and cutoff_rad_s > 0 (rad/s, not Hz).
 TransferFunction butterworth_lowpass(int order, double cutoff_rad_s);
-// k / s.
+// k / s (continuous; a diagram's discrete integrator is k ts/(z - 1)).
 TransferFunction integrator(double k = 1.0);
 
 }  // namespace dmbd::blocks

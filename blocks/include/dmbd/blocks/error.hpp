@@ -12,9 +12,10 @@ namespace blocks {
 // expression text; the message already mentions it.
 class ExpressionError : public InputError {
  public:
+  // what() is "column N: message".
   ExpressionError(const std::string& message, int column)
       : InputError("column " + std::to_string(column) + ": " + message), column_(column) {}
-  int column() const { return column_; }
+  int column() const { return column_; }  // 1-based column of the problem in the expression
 
  private:
   int column_;

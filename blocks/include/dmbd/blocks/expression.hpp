@@ -25,23 +25,34 @@
 
 namespace dmbd::blocks {
 
+// Parameter values by name (a diagram's parameters, --param NAME=VALUE overrides); the
+// transparent comparator looks names up by std::string_view without a copy.
 using ParameterMap = std::map<std::string, double, std::less<>>;
 
 // A rational function num(x)/den(x) as produced by evaluating an expression.
 struct Rational {
-  Polynomial num, den;
+  // The numerator, ascending powers of x, as the arithmetic left it (not normalised: no
+  // monic denominator, no common factor cancelled; TransferFunction normalises).
+  Polynomial num, den;  // the denominator, ascending powers; never zero after evaluate_rational
 };
 
+// A parsed rational expression (grammar above): parse once, evaluate at any parameter
+// values. Cheap to copy (the syntax tree is shared and immutable).
 class Expression {
  public:
   struct Node;
+  // Deepest nesting of parentheses, calls, signs and exponents.
   static constexpr int kMaxDepth = 200;
+  // Most numbers and names in one expression.
   static constexpr int kMaxOperands = 10000;
+  // Highest degree in s or z of the evaluated numerator or denominator.
   static constexpr int kMaxDegree = 1000;
 
-  // Throws ExpressionError (1-based column) on a syntax error.
+  // Throws ExpressionError (1-based column) on a syntax error or when a limit above
+  // (kMaxDepth, kMaxOperands) is exceeded.
   static Expression parse(std::string_view text);
 
+  // The source text exactly as parsed (columns in errors refer to it).
   const std::string& text() const { return text_; }
   // Parameter names the expression refers to (not functions, constants, s or z).
   std::set<std::string> parameters() const;
@@ -53,7 +64,9 @@ class Expression {
   // a division by zero or a function domain error.
   double evaluate(const ParameterMap& params = {}) const;
   // Evaluate to a rational function of `variable` ('s' or 'z'). The other variable
-  // letter is an error. Powers of non-constant bases need integer exponents.
+  // letter is an error. Powers of non-constant bases need integer exponents. Throws
+  // ExpressionError as evaluate() does, and for a degree above kMaxDegree or a zero
+  // denominator; InputError when `variable` is neither 's' nor 'z'.
   Rational evaluate_rational(const ParameterMap& params, char variable) const;
 
  private:

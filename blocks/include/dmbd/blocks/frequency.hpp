@@ -7,10 +7,12 @@
 
 namespace dmbd::blocks {
 
+// A frequency response on a grid, point by point: all four vectors have one entry per
+// frequency.
 struct Bode {
-  std::vector<double> w_rad_s;
-  std::vector<Complex> response;
-  std::vector<double> mag_db;
+  std::vector<double> w_rad_s;    // the frequencies, rad/s, as given
+  std::vector<Complex> response;  // G(jw), or G(e^{jw ts}) when discrete
+  std::vector<double> mag_db;     // 20 log10 |G| (-inf at a zero on the axis, +inf at a pole)
   // Unwrapped continuously from w = 0: the low-frequency asymptote K s^m gives
   // m*90 deg (m = zeros minus poles at s = 0, or at z = 1) minus 180 deg when K < 0;
   // every other pole and zero adds its phase change from DC, computed exactly
@@ -33,22 +35,28 @@ std::vector<Complex> frequency_response(const TransferFunction& sys, const std::
 // All channels at every frequency via one Hessenberg reduction of A and an O(n^2)
 // solve per frequency: result[k] is outputs x inputs at w[k].
 std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys, const std::vector<double>& w_rad_s);
+// Magnitude in dB and unwrapped phase in degrees (Bode::phase_deg) at w_rad_s (rad/s;
+// a discrete response is periodic beyond the Nyquist frequency pi/ts); the response
+// by direct evaluation, as frequency_response().
 Bode bode(const TransferFunction& sys, const std::vector<double>& w_rad_s);
 
 // One crossing of a loop transfer function.
 struct Crossing {
-  double w_rad_s;
+  double w_rad_s;  // where: rad/s (0 for DC, pi/ts for Nyquist of a discrete loop)
   double margin;  // gain margin in dB (at a phase crossover) or phase margin in degrees
 };
 
+// Stability margins of a loop transfer L in negative feedback (closed loop L/(1 + L)).
 struct Margins {
   // The usual convention (as MATLAB's margin): among all phase crossovers (L real
-  // negative) the gain margin -20 log10 |L| of smallest magnitude, and among all gain
-  // crossovers (|L| = 1) the phase margin 180 + angle(L), wrapped to (-180, 180], of
-  // smallest magnitude. Empty where there is no crossover.
-  std::optional<double> gain_margin_db, phase_crossover_rad_s;
-  std::optional<double> phase_margin_deg, gain_crossover_rad_s;
-  std::vector<Crossing> phase_crossovers, gain_crossovers;  // every crossing, by frequency
+  // negative) the gain margin -20 log10 |L| of smallest magnitude, in dB. Empty where
+  // there is no phase crossover.
+  std::optional<double> gain_margin_db, phase_crossover_rad_s;  // rad/s, where gain_margin_db is taken
+  // Among all gain crossovers (|L| = 1) the phase margin 180 + angle(L), wrapped to
+  // (-180, 180], of smallest magnitude, in degrees. Empty where there is no gain crossover.
+  std::optional<double> phase_margin_deg, gain_crossover_rad_s;  // rad/s, where phase_margin_deg is taken
+  // Every phase crossover (margin in dB), sorted by frequency.
+  std::vector<Crossing> phase_crossovers, gain_crossovers;  // every gain crossover (margin in degrees), by frequency
 };
 
 // Crossovers found exactly as roots of polynomials in w (continuous) or in the

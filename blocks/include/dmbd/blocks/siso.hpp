@@ -18,6 +18,8 @@
 
 namespace dmbd::blocks {
 
+// The analysis of one SISO transfer (what `dmbd analyze` reports): built once by
+// from_tf or from_state_space, then read. Continuous or discrete as its source.
 class Siso {
  public:
   // Any TF (improper ones have no realisation: step() is then an InputError).
@@ -25,32 +27,42 @@ class Siso {
   // InputError unless the system has one input and one output.
   static Siso from_state_space(const SparseStateSpace& sys);
 
+  // The transfer as zeros, poles and gain: only the modes it sees (hidden() taken out),
+  // exact integrators at s = 0 (z = 1) counted in Zpk::m. Margins, bandwidth, Bode and
+  // stability are computed on it.
   const Zpk& zpk() const { return zpk_; }
+  // Sample time in seconds; 0 when continuous.
   double ts() const { return zpk_.ts(); }
+  // ts() > 0.
   bool is_discrete() const { return zpk_.is_discrete(); }
   // The rational function: as given, or the product of the factors when its
   // coefficients are representable in double precision.
   const std::optional<TransferFunction>& tf() const { return tf_; }
-  // Every eigenvalue of the system it was made from (all of the TF's poles), and the
-  // modes the transfer does not see: out of the input's reach or the output's view by
+  // Every eigenvalue of the system it was made from (all of the TF's poles), sorted:
+  // internal stability is judged on these.
+  const std::vector<Complex>& modes() const { return modes_; }
+  // The modes the transfer does not see: out of the input's reach or the output's view by
   // the structure, removed by a factor's controllability/observability rank test, or
   // cancelled against a zero (|z - p| <= kCancelTolerance |p|), or a common root of a
-  // TF's numerator and denominator at s = 0 (z = 1).
-  const std::vector<Complex>& modes() const { return modes_; }
+  // TF's numerator and denominator at s = 0 (z = 1). From a state-space model whose
+  // transfer is zero: every mode.
   const std::vector<Complex>& hidden() const { return hidden_; }
   // Number of series factors (1 for a TF).
   int factors() const { return factors_; }
   // The states the transfer sees, balanced; empty for an improper TF.
   const std::optional<SparseStateSpace>& realisation() const { return realisation_; }
 
+  // Relative distance |z - p| <= kCancelTolerance |p| at which a zero cancels a pole.
   static constexpr double kCancelTolerance = 1e-7;
 
   // Unit step from rest at n samples from 0 to t_end (see SparseStep), with its figures
   // when the transfer is stable (its final value is then the DC gain of zpk()).
   struct Step {
-    TimeResponse response;
-    StepInfo info;
+    TimeResponse response;  // t (s) and y (n x 1) at the samples
+    StepInfo info;          // all empty unless the transfer is stable
   };
+  // InputError for an improper TF (no realisation), t_end <= 0 or n < 2 (n is ignored
+  // when discrete: every sample k ts up to t_end).
   Step step(double t_end, int n) const;
   // step_horizon() of the transfer's poles.
   double default_step_horizon() const;

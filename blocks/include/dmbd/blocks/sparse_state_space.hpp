@@ -10,25 +10,35 @@
 
 namespace dmbd::blocks {
 
+// Sparse real matrices, row-major: a row of A (a state's equation) is contiguous.
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
+// A MIMO state-space model as StateSpace (same equations, ts == 0 continuous, ts > 0
+// seconds discrete), with A, B, C sparse and D dense (outputs x inputs): the linearised
+// diagram (diagrams::linearize_sparse) and what Siso takes apart. Immutable.
 class SparseStateSpace {
  public:
+  // The empty model: no states, inputs or outputs, continuous.
   SparseStateSpace() = default;
   // Throws InputError on inconsistent sizes, non-finite entries or a bad sample time.
   SparseStateSpace(SparseMatrix a, SparseMatrix b, SparseMatrix c, Matrix d, double ts = 0.0);
+  // The same model with the exact zeros of A, B, C left out.
   explicit SparseStateSpace(const StateSpace& dense);
+  // The same model with dense matrices (n x n memory: for small systems or after
+  // restricted()).
   StateSpace dense() const;
 
-  const SparseMatrix& a() const { return a_; }
-  const SparseMatrix& b() const { return b_; }
-  const SparseMatrix& c() const { return c_; }
-  const Matrix& d() const { return d_; }
+  const SparseMatrix& a() const { return a_; }  // A: states x states, compressed
+  const SparseMatrix& b() const { return b_; }  // B: states x inputs, compressed
+  const SparseMatrix& c() const { return c_; }  // C: outputs x states, compressed
+  const Matrix& d() const { return d_; }        // D: outputs x inputs, dense
+  // Sample time in seconds; 0 for a continuous model.
   double ts() const { return ts_; }
+  // ts() > 0: a difference equation.
   bool is_discrete() const { return ts_ > 0.0; }
-  int num_states() const { return static_cast<int>(a_.rows()); }
-  int num_inputs() const { return static_cast<int>(b_.cols()); }
-  int num_outputs() const { return static_cast<int>(c_.rows()); }
+  int num_states() const { return static_cast<int>(a_.rows()); }    // n, the rows of A
+  int num_inputs() const { return static_cast<int>(b_.cols()); }    // the columns of B (and D)
+  int num_outputs() const { return static_cast<int>(c_.rows()); }  // the rows of C (and D)
 
   // The strongly connected groups of the states, each after the groups it depends on
   // (as state_groups()); O(nonzeros).
@@ -56,7 +66,10 @@ class SparseStateSpace {
 // terms summed until they fall below rounding. Cost: about 30 s products with M.
 class ExponentialAction {
  public:
+  // Keeps M (square) and precomputes mu and ||M - mu I||_1.
   explicit ExponentialAction(SparseMatrix m);
+  // e^{tM} v (any real t; v of M's size). InputError when t is so long for M's norm that
+  // more than 1e9 steps would be needed.
   Vector apply(const Vector& v, double t) const;
 
  private:
@@ -71,9 +84,13 @@ class ExponentialAction {
 // whose cost does not grow with stiffness).
 class SparseStep {
  public:
+  // Computes the response at construction. InputError for an input `in` that does not
+  // exist, t_end <= 0 (seconds), n < 2, or a discrete horizon of more than 5e7 samples.
   SparseStep(const SparseStateSpace& sys, double t_end, int n, int in = 0);
+  // The samples: t in seconds (k t_end/(n - 1), or k ts), y samples x outputs.
   const TimeResponse& response() const { return response_; }
   // Output `out` at t in [0, t_end]: exact (continuous), or the sample at or before t.
+  // InputError for an output that does not exist.
   double at(double t, int out = 0) const;
 
  private:

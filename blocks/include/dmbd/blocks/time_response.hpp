@@ -8,6 +8,7 @@
 
 namespace dmbd::blocks {
 
+// A sampled response: row k of y is the outputs at time t[k].
 struct TimeResponse {
   std::vector<double> t;  // s
   Matrix y;               // samples x outputs
@@ -15,29 +16,36 @@ struct TimeResponse {
 
 // Step (unit, on input `in`) from t = 0 to t_end at n equally spaced samples. A
 // continuous system is discretised exactly (ZOH is exact for the constant input);
-// a discrete one is sampled at its own k ts up to t_end (n is then ignored).
+// a discrete one is sampled at its own k ts up to t_end (n is then ignored). InputError
+// for an input that does not exist, t_end <= 0 or n < 2.
 TimeResponse step(const StateSpace& sys, double t_end, int n, int in = 0);
 // Unit impulse on input `in`: continuous y(t) = C e^{At} B (the D delta term is left
-// out); discrete: the unit pulse response.
+// out); discrete: the unit pulse response. InputError as step().
 TimeResponse impulse(const StateSpace& sys, double t_end, int n, int in = 0);
 // Response to u (samples x inputs) held constant between samples spaced dt apart (exact
 // for piecewise-constant input), from initial state x0 (zero when empty). A discrete
-// system needs dt == its ts.
+// system needs dt == its ts. InputError when u's columns or x0's size do not match the
+// system, or dt <= 0.
 TimeResponse lsim(const StateSpace& sys, const Matrix& u, double dt, const Vector& x0 = Vector());
 
+// Figures of merit of a step response (step_info, step_figures); each empty when it is
+// not defined. Times in seconds from the step.
 struct StepInfo {
   // Final value: the DC gain for a stable system, empty otherwise (and then all
   // figures below are empty).
   std::optional<double> final_value;
-  std::optional<double> rise_time_s;      // 10 % to 90 % of the final value
-  std::optional<double> settling_time_s;  // last exit from the +-2 % band
-  std::optional<double> overshoot_pct;    // (peak - final) / |final| * 100, >= 0
-  std::optional<double> peak, peak_time_s;
+  std::optional<double> rise_time_s;      // 10 % to 90 % of the final value (rise_low, rise_high)
+  std::optional<double> settling_time_s;  // last exit from the +-2 % band (settling_fraction)
+  std::optional<double> overshoot_pct;    // (peak - final) / final * 100, clamped at 0
+  // The extreme value in the direction of the final value: the maximum (the minimum when
+  // the final value is negative), refined between samples when the exact response is known.
+  std::optional<double> peak, peak_time_s;  // the time of the peak
 };
 
 // Step information of channel (out, in) from its sampled step response. For a
 // continuous system every crossing time and the peak are refined between samples on
 // the exact response (matrix exponential), so the figures do not depend on the grid.
+// All empty for an unstable system; InputError for a channel that does not exist.
 StepInfo step_info(const StateSpace& sys, const TimeResponse& step_response, int out = 0, int in = 0,
                    double settling_fraction = 0.02, double rise_low = 0.1, double rise_high = 0.9);
 

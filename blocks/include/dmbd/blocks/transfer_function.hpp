@@ -9,36 +9,53 @@
 
 namespace dmbd::blocks {
 
+// G = num/den, a ratio of real polynomials in s (continuous, ts == 0) or z (discrete,
+// ts > 0 seconds), coefficients in ascending powers (Polynomial). An immutable value:
+// the denominator is monic; improper ones (deg num > deg den, a PD without filter) are
+// allowed here, but have no state-space realisation (StateSpace::from_tf).
 class TransferFunction {
  public:
   // num/den, normalised: denominator monic (leading coefficient 1), exact leading
-  // zeros stripped. Throws InputError for a zero denominator or a negative or
-  // non-finite sample time.
+  // zeros stripped. Throws InputError for a zero denominator, a non-finite coefficient,
+  // or a negative or non-finite sample time.
   TransferFunction(Polynomial num, Polynomial den, double ts = 0.0);
+  // The constant gain `gain` (continuous, or discrete with sample time ts); the default is
+  // the unit gain.
   TransferFunction(double gain = 1.0, double ts = 0.0);  // NOLINT: a constant gain converts implicitly
-  // From coefficient lists, highest power first.
+  // From coefficient lists, highest power first (MATLAB's tf(num, den) order), e.g.
+  // {1}, {1, 2, 1} for 1/(s^2 + 2 s + 1).
   static TransferFunction from_descending(const std::vector<double>& num, const std::vector<double>& den,
                                           double ts = 0.0);
   // Parse a rational expression in s (ts == 0) or z (ts > 0). ExpressionError (with
   // column) for syntax errors, unknown parameters and the wrong variable.
   static TransferFunction parse(std::string_view expression, const ParameterMap& params = {}, double ts = 0.0);
 
+  // The numerator polynomial in s (z), scaled by the normalisation: ascending powers.
   const Polynomial& num() const { return num_; }
+  // The denominator polynomial in s (z): monic, ascending powers, never zero.
   const Polynomial& den() const { return den_; }
+  // Sample time in seconds; 0 for a continuous transfer function.
   double ts() const { return ts_; }
+  // ts() > 0: a function of z, evaluated on the unit circle z = e^{jw ts}.
   bool is_discrete() const { return ts_ > 0.0; }
+  // The degree of the denominator: the number of poles (common roots not cancelled).
   int order() const { return den_.degree(); }
+  // deg den - deg num: poles minus zeros (negative when improper; deg num is -1 for G = 0).
   int relative_degree() const { return den_.degree() - num_.degree(); }
+  // deg num <= deg den: a state-space realisation exists.
   bool is_proper() const { return num_.degree() <= den_.degree(); }
+  // deg num < deg den: no direct feedthrough (D = 0).
   bool is_strictly_proper() const { return num_.degree() < den_.degree(); }
 
   // Roots of den (of num); those at s = 0 (z = 1), as Polynomial::without_root decides
   // them, come out exactly 0 (1).
   std::vector<Complex> poles() const { return roots_of(den_); }
-  std::vector<Complex> zeros() const { return roots_of(num_); }
+  std::vector<Complex> zeros() const { return roots_of(num_); }  // the same for num
   // Value at s = 0 (continuous) or z = 1 (discrete); nullopt when infinite (a pole
   // there that no zero cancels). 0/0 from a common root is resolved by cancelling it.
   std::optional<double> dc_gain() const;
+  // num(x)/den(x) at a complex point x: s = jw (continuous) or z = e^{jw ts} (discrete).
+  // No cancellation: a pole at x gives an infinite or NaN value.
   Complex evaluate(Complex x) const { return num_(x) / den_(x); }
   // Continuous: all poles with Re < 0. Discrete: all poles with |z| < 1.
   bool is_stable() const;
@@ -49,9 +66,14 @@ class TransferFunction {
   // Interconnection (sample times must agree; InputError otherwise).
   friend TransferFunction operator*(const TransferFunction& a, const TransferFunction& b);  // series
   friend TransferFunction operator+(const TransferFunction& a, const TransferFunction& b);  // parallel
+  // a - b, as a + (-b) (parallel connection with a negated branch).
   friend TransferFunction operator-(const TransferFunction& a, const TransferFunction& b);
+  // a / b = a * (1/b); InputError when b is the zero transfer function.
   friend TransferFunction operator/(const TransferFunction& a, const TransferFunction& b);
+  // -G (the numerator negated).
   TransferFunction operator-() const;
+  // G^n for any integer n (G^0 = 1, G^-1 = den/num); InputError for a negative power of
+  // the zero transfer function. Nothing is cancelled.
   TransferFunction pow(int n) const;
 
  private:

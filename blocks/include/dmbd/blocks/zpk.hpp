@@ -25,24 +25,33 @@ class Zpk {
   // s^j ((z - 1)^j) of num and den cancels exactly.
   static Zpk from_tf(const TransferFunction& g);
 
+  // The gain k of the form above: the DC gain when m == 0, the coefficient of the
+  // low-frequency asymptote k s^m (k (z - 1)^m) otherwise; 0 for the zero transfer.
   double k() const { return k_; }
+  // Zeros minus poles at the boundary point s = 0 (z = 1): m < 0 is -m integrators,
+  // m > 0 that many differentiators.
   int m() const { return m_; }
   const std::vector<Complex>& zeros() const { return zeros_; }  // boundary point excluded
   const std::vector<Complex>& poles() const { return poles_; }  // boundary point excluded
   // The same, each distinct root once with its multiplicity: what the evaluations
   // loop over (a chain of 10000 equal lags is one term).
   struct Root {
-    Complex value;
-    int count;
+    Complex value;  // the root (exactly equal roots are one Root)
+    int count;      // its multiplicity, >= 1
   };
-  const std::vector<Root>& distinct_zeros() const { return distinct_zeros_; }
-  const std::vector<Root>& distinct_poles() const { return distinct_poles_; }
+  const std::vector<Root>& distinct_zeros() const { return distinct_zeros_; }  // sorted as zeros()
+  const std::vector<Root>& distinct_poles() const { return distinct_poles_; }  // sorted as poles()
+  // Sample time in seconds; 0 when continuous.
   double ts() const { return ts_; }
+  // ts() > 0: a function of z, the boundary point z = 1.
   bool is_discrete() const { return ts_ > 0.0; }
+  // k == 0: G is identically zero (its roots and m mean nothing).
   bool is_zero() const { return k_ == 0.0; }
   // Every pole (zero), those at the boundary point included, sorted.
   std::vector<Complex> all_poles() const;
-  std::vector<Complex> all_zeros() const;
+  std::vector<Complex> all_zeros() const;  // every zero, likewise
+  // The number of poles, those at the boundary point included (the degree of to_tf()'s
+  // denominator).
   int order() const { return static_cast<int>(poles_.size()) + std::max(0, -m_); }
   // Poles minus zeros.
   int relative_degree() const { return static_cast<int>(poles_.size() - zeros_.size()) - m_; }
@@ -73,6 +82,9 @@ class Zpk {
 
 // A grid two decades beyond the slowest and fastest root (up to Nyquist when discrete).
 std::vector<double> default_frequency_grid(const Zpk& g, int n = 400);
+// The Bode data from log_response: magnitude and phase exact for any order (no
+// polynomial is formed); Bode::response is e^{log G}, which may overflow where mag_db
+// does not.
 Bode bode(const Zpk& g, const std::vector<double>& w_rad_s);
 // As margins(const TransferFunction&): the same conventions, crossings found by
 // certified isolation instead of polynomial roots (see zpk.cpp), for any order.
@@ -88,8 +100,12 @@ std::optional<double> bandwidth(const Zpk& g, double drop_db = -3.0);
 // imaginary axis relative to |s| (of the unit circle); two such poles within 1e-6
 // relative are one repeated pole.
 enum class Stability { Stable, Marginal, Unstable };
+// "stable", "marginal", "unstable" (the JSON reports' words).
 const char* to_string(Stability s);
+// The verdict above for poles in s (discrete false) or in z (discrete true).
 Stability stability(const std::vector<Complex>& poles, bool discrete);
+// The verdict of a transfer's poles, those at the boundary point included (hidden modes
+// are not its poles: judge Siso::modes() for internal stability).
 inline Stability stability(const Zpk& g) { return stability(g.all_poles(), g.is_discrete()); }
 // Whether a pole lies on the boundary in the sense above.
 bool on_boundary(const Complex& p, bool discrete);
