@@ -17,55 +17,75 @@ namespace dmbd::diagrams {
 
 // A place in a diagram file and a problem there (dmbd/base/location.hpp).
 using Location = dmbd::Location;
+// One problem at a Location: what DiagramError collects (dmbd/base/location.hpp).
 using Diagnostic = dmbd::Diagnostic;
 
 // Every problem found while loading a diagram; what() is one line per problem.
 class DiagramError : public InputError {
  public:
+  // what() joins the diagnostics' "file:line:column: error: message", one per line.
   explicit DiagramError(std::vector<Diagnostic> diagnostics);
+  // Every problem with its location, in the order found.
   const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
 
  private:
   std::vector<Diagnostic> diagnostics_;
 };
 
+// A diagram input or output as declared under `inputs:` / `outputs:`.
 struct SignalSpec {
-  std::string name, unit;
+  // The signal's name: an identifier, the key under `inputs:` or `outputs:`.
+  std::string name, unit;  // free text (e.g. "m", "N*m"); empty when not given
+  // [lo, hi] with lo < hi, in `unit`, if given: the values the signal takes (code
+  // generation scales fixed-point arithmetic by the inputs' ranges).
   std::optional<std::pair<double, double>> range;
-  int size = 1;
-  Location where;
+  int size = 1;    // width: the number of scalar entries (1..1000)
+  Location where;  // the name's place in the file
 };
 
+// A block's `type:` in the file (docs/diagram-format.md, "Blocks"); to_string gives
+// the word.
 enum class BlockType { Gain, Sum, Tf, Ss, Pd, Pid, Lowpass, Delay, Saturation, Integrator, Subsystem };
+// The type's word in the file: "gain", "sum", "tf", "ss", "pd", "pid", "lowpass", "delay",
+// "saturation", "integrator", "subsystem".
 const char* to_string(BlockType t);
 
+// One input or output port of a block.
 struct Port {
+  // "in", "out", "in1".."inN" for a sum, or a subsystem diagram's own input/output names.
   std::string name;
-  int size = 1;
+  int size = 1;  // width: the number of scalar entries
 };
 
 class Diagram;
 
+// One block of a diagram, evaluated at the diagram's parameter values. Which of the
+// type-specific fields below are set depends on `type`.
 struct Block {
-  std::string name;
-  BlockType type = BlockType::Gain;
-  Location where;
+  std::string name;                  // unique within its diagram; `name.port` in connections
+  BlockType type = BlockType::Gain;  // its `type:`, which decides the fields below
+  Location where;                    // the name's place in the file
   // The block's fields as written (scalars as text, lists in YAML flow style), in file
   // order: for drawings and for comments in generated code.
   std::vector<std::pair<std::string, std::string>> fields;
-  std::vector<Port> inputs, outputs;
+  // The input ports in order (their widths stack in the columns of `model`'s B and D).
+  std::vector<Port> inputs, outputs;  // the output ports in order (rows of C and D)
   // The block's linear model, inputs and outputs stacked in port order: continuous
   // (a delay as its Padé approximant) or discrete at the diagram's sample time. Empty
   // for a subsystem.
   blocks::StateSpace model;
   // The SISO transfer function where the block is one (tf, pd, pid, lowpass,
-  // integrator; a delay's Padé approximant); code generation realises it.
+  // integrator; a delay's Padé approximant, or z^-n when discrete; also a 1 x 1 gain, a
+  // SISO ss and a saturation, as 1), at the diagram's sample time; code generation
+  // realises it.
   std::optional<blocks::TransferFunction> tf;
-  blocks::Matrix gain;             // gain
-  std::vector<double> signs;       // sum
-  double delay_s = 0.0;            // delay (continuous)
-  int delay_samples = 0;           // delay (discrete)
-  double lower = 0.0, upper = 0.0; // saturation
+  blocks::Matrix gain;             // gain: k, outputs x inputs
+  std::vector<double> signs;       // sum: +1 or -1 per input port
+  double delay_s = 0.0;            // delay: seconds (when discrete, delay_samples * ts)
+  int delay_samples = 0;           // delay: whole samples of a discrete diagram (0 when continuous)
+  // saturation: the lower bound of the output (lower < upper; identity in linear analysis).
+  double lower = 0.0, upper = 0.0; // saturation: the upper bound
+  // subsystem: the diagram of its `file`, evaluated at the block's `parameters`.
   std::shared_ptr<const Diagram> subsystem;
   // The block's own discretisation for code generation (field `discretization`), if any.
   std::optional<blocks::C2dMethod> method;
@@ -75,11 +95,15 @@ struct Block {
 
 // Where a value comes from: a diagram input (block == -1) or a block output port.
 struct Source {
-  int block = -1;
-  int port = 0;
+  int block = -1;  // index into Diagram::blocks(), or -1 for a diagram input
+  int port = 0;    // index into that block's outputs, or into Diagram::inputs()
+  // The same block (or diagram input) and port.
   bool operator==(const Source& o) const { return block == o.block && port == o.port; }
 };
 
+// A loaded, evaluated and validated block diagram: immutable, shared (std::shared_ptr)
+// with the subsystem blocks that use it. Continuous when ts() == 0, else every block is
+// discrete at ts(). Indices of blocks, inputs and outputs are in file order.
 class Diagram {
  public:
   // Load, evaluate and validate a diagram file. `overrides` replace parameter values
@@ -91,28 +115,41 @@ class Diagram {
   static std::shared_ptr<const Diagram> parse(const std::string& yaml, const std::string& path,
                                               const blocks::ParameterMap& overrides = {});
 
+  // The `name` key: an identifier, also the name of generated code.
   const std::string& name() const { return name_; }
+  // The `description` key; empty when not given.
   const std::string& description() const { return description_; }
+  // The path the diagram was loaded from, as given (or the `path` of parse()).
   const std::string& file() const { return file_; }
+  // The `sample_time` key in seconds; 0 (the default) for a continuous diagram.
   double ts() const { return ts_; }
+  // ts() > 0: every block is discrete at ts() (tf expressions in z, ss matrices taken as
+  // discrete, delays in whole samples, pd/pid/lowpass discretised by discretization(),
+  // Tustin when not given).
   bool is_discrete() const { return ts_ > 0.0; }
+  // `analysis: {pade_order}` (0..10, default 3): the order of the Padé approximants of
+  // this file's continuous delay blocks (a block's own `pade_order` overrides it).
   int pade_order() const { return pade_order_; }
   // The diagram's own `discretization` key, if given: how its continuous blocks are
   // discretised (a discrete diagram's pd/pid/lowpass; the default of code generation).
   const std::optional<blocks::C2dMethod>& discretization() const { return discretization_; }
   // Parameter values after overrides, and the names in definition order.
   const blocks::ParameterMap& parameters() const { return parameters_; }
-  const std::vector<std::string>& parameter_order() const { return parameter_order_; }
+  const std::vector<std::string>& parameter_order() const { return parameter_order_; }  // file order
+  // The diagram inputs in file order (Source{-1, j} is input j).
   const std::vector<SignalSpec>& inputs() const { return inputs_; }
+  // The diagram outputs in file order (output_driver(j) drives output j).
   const std::vector<SignalSpec>& outputs() const { return outputs_; }
+  // The blocks in file order, subsystem blocks included (not flattened: see FlatDiagram).
   const std::vector<Block>& blocks() const { return blocks_; }
-  // driver(b)[k]: what drives input port k of block b; output_driver(j): diagram output j.
+  // drivers(b)[k]: what drives input port k of block b (b is not checked).
   const std::vector<Source>& drivers(int block) const { return drivers_[static_cast<size_t>(block)]; }
+  // output_driver(j): what drives diagram output j (j is not checked).
   const Source& output_driver(int output) const { return output_drivers_[static_cast<size_t>(output)]; }
 
-  int find_block(const std::string& name) const;   // -1 if none
-  int find_input(const std::string& name) const;   // -1 if none
-  int find_output(const std::string& name) const;  // -1 if none
+  int find_block(const std::string& name) const;   // index into blocks(), -1 if none
+  int find_input(const std::string& name) const;   // index into inputs(), -1 if none
+  int find_output(const std::string& name) const;  // index into outputs(), -1 if none
 
  private:
   friend class Loader;

@@ -12,6 +12,8 @@ namespace dmbd::diagrams {
 
 struct ParsedDiagram;  // the YAML tree, its expressions and subsystem sources (src/)
 
+// One diagram file (and its subsystems' files) read and parsed: made by load() or parse(),
+// held as std::shared_ptr<const DiagramSource>, evaluated any number of times.
 class DiagramSource {
  public:
   // Reads and parses the file and, recursively, the files of its subsystems. Throws
@@ -26,9 +28,13 @@ class DiagramSource {
   // no file and parses no text: the source is not changed.
   std::shared_ptr<const Diagram> evaluate(const blocks::ParameterMap& overrides = {}) const;
 
+  // The path as given to load() (or the `path` of parse()): Diagram::file() of evaluate().
   const std::string& file() const;
+  // The parsed tree (an opaque type outside diagrams/src: for the loader).
   const ParsedDiagram& parsed() const { return *parsed_; }
 
+  // Wraps a parsed tree; load() and parse() make sources this way (ParsedDiagram is
+  // private to diagrams/src, so other code cannot).
   explicit DiagramSource(std::shared_ptr<const ParsedDiagram> parsed) : parsed_(std::move(parsed)) {}
 
  private:

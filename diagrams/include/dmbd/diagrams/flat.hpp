@@ -14,43 +14,64 @@ namespace dmbd::diagrams {
 // The diagram flattened into atomic blocks (subsystems dissolved), with every block
 // input ("reader") resolved to the signal that drives it and the subsystem boundary
 // points it passes through.
+//
+// It points into the diagram it was made from (and its subsystems): that diagram must
+// outlive it. Indices: ctx[0] is the top diagram; signals, points and readers are
+// numbered as in their vectors; "atomic" order is context by context, block by block in
+// file order.
 struct FlatDiagram {
+  // One diagram of the hierarchy: the top, or a subsystem block's diagram.
   struct Context {
-    const Diagram* d;
+    const Diagram* d;    // the diagram (not owned)
     std::string prefix;  // "" at the top, "plant." inside block plant
     int parent = -1;     // context index
+    // The subsystem block's index in the parent's Diagram::blocks(); -1 at the top.
     int block_in_parent = -1;
     std::vector<int> child;       // per block: child context (subsystems) or -1
     std::vector<int> out_signal;  // per block: first signal id of its outputs (atomic)
   };
+  // A value some atomic block or the top diagram produces: a top-level input or an
+  // atomic block's output port.
   struct Signal {
+    // The full name: the input's name, or "prefix.block.port" ("plant.motor.out").
     std::string name;
-    int size = 1;
+    int size = 1;    // width: the number of scalar entries
     int offset = 0;  // in the stacked atomic outputs (top inputs: -1)
-    bool top_input = false;
+    bool top_input = false;  // a top-level diagram input (not produced by a block)
   };
+  // How a value reaches a reader: the signal that drives it and the subsystem boundary
+  // points on the way.
   struct Route {
-    int signal = -1;
+    int signal = -1;       // index into signals; -1 until resolved
     std::set<int> points;  // boundary points passed through
   };
+  // A consumer of a value: an atomic block's input port, or a top-level output.
   struct Reader {
+    // The full name: "prefix.block.port" for an input port, the output's own name.
     std::string name;
-    int size = 1;
+    int size = 1;    // width: the number of scalar entries
     int offset = 0;  // in the stacked atomic inputs; top outputs: -1
-    Route route;
+    Route route;     // the signal it reads and the boundary points on the way
   };
-  std::vector<Context> ctx;
+  std::vector<Context> ctx;  // every diagram of the hierarchy, the top first, depth first
+  // Every signal: the top-level inputs in order, then each atomic block's output ports.
   std::vector<Signal> signals;
   std::vector<std::string> points;  // boundary point names ("plant.i", "plant.F")
   std::vector<Reader> readers;      // atomic inputs first, then top outputs
+  // The atomic blocks (every block but a subsystem), pointing into their diagrams.
   std::vector<const Block*> atomic;
+  // Their full names: the context's prefix + the block's name ("plant.motor").
   std::vector<std::string> atomic_name;
-  // Per atomic block: index of its first reader (its input ports, in order, follow)
-  // and of its first output signal.
-  std::vector<int> reader_base, signal_base;
+  // Per atomic block: index of its first reader (its input ports, in order, follow).
+  std::vector<int> reader_base, signal_base;  // per atomic block: index of its first output signal
   int first_top_output = 0;  // readers from here on are the top-level outputs
-  int nu = 0, ny = 0;
+  // The total width of the atomic blocks' inputs (the stacked inputs the readers' offsets
+  // index).
+  int nu = 0, ny = 0;  // the total width of the atomic blocks' outputs (the signals' offsets)
 
+  // Flattens `top`: the contexts, the atomic blocks and their output signals, then every
+  // reader with its route resolved. InputError for a loop of plain wires through
+  // subsystem boundaries (no block drives it).
   explicit FlatDiagram(const Diagram& top) {
     build_context(&top, "", -1, -1);
     for (size_t i = 0; i < top.inputs().size(); ++i)
@@ -95,6 +116,9 @@ struct FlatDiagram {
     }
   }
 
+  // Appends the context of diagram d named `prefix`, child of context `parent` through
+  // its block `bip`, then (depth first) those of its subsystem blocks. Called by the
+  // constructor.
   void build_context(const Diagram* d, const std::string& prefix, int parent, int bip) {
     const int me = static_cast<int>(ctx.size());
     ctx.push_back({d, prefix, parent, bip, {}, {}});
@@ -108,6 +132,7 @@ struct FlatDiagram {
     }
   }
 
+  // The index of the boundary point `name` in points, appended when new.
   int point(const std::string& name) {
     auto it = std::find(points.begin(), points.end(), name);
     if (it != points.end()) return static_cast<int>(it - points.begin());
@@ -142,12 +167,17 @@ struct FlatDiagram {
 
   // A named place: a signal, a boundary point, or a reader.
   struct Target {
-    enum class Kind { Signal, Point, Reader } kind;
-    int index;
+    // The three kinds of place.
+    enum class Kind { Signal, Point, Reader } kind;  // which kind: `index` is into signals, points or readers
+    int index;    // into signals, points or readers, by `kind`
     Route route;  // how the value there is formed (for measurement)
-    int size;
+    int size;     // width: the number of scalar entries
   };
 
+  // The place `name` denotes, searched in this order: a signal, a reader, a subsystem
+  // boundary point (`subsystem.port`), or an atomic block's name alone for its only
+  // output (else its only input). InputError for an unknown name, listing up to 12 of
+  // names().
   Target find(const std::string& name) {
     for (size_t i = 0; i < signals.size(); ++i)
       if (signals[i].name == name) return {Target::Kind::Signal, static_cast<int>(i), {static_cast<int>(i), {}}, signals[i].size};
@@ -192,6 +222,8 @@ struct FlatDiagram {
     throw InputError("unknown signal '" + name + "' (signals: " + known + ")");
   }
 
+  // Every name find() takes: the signals, the boundary points met so far, and the readers
+  // not already listed (not the block-name shorthand).
   std::vector<std::string> names() const {
     std::vector<std::string> out;
     for (const auto& s : signals) out.push_back(s.name);
@@ -201,6 +233,9 @@ struct FlatDiagram {
     return out;
   }
 
+  // Whether an input injected at `inj` reaches a reader with route r (reader_index its
+  // index in readers, or -1): at a signal, every reader of that signal; at a boundary
+  // point, the readers whose route passes through it; at a reader, that reader alone.
   static bool affects(const Target& inj, const Route& r, int reader_index) {
     switch (inj.kind) {
       case Target::Kind::Signal: return r.signal == inj.index;
