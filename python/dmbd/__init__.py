@@ -1,0 +1,16 @@
+"""draco-mbd from Python (docs/python.md).
+
+Linear systems (tf, ss, TransferFunction, StateSpace; series, parallel, feedback; c2d),
+their analysis as NumPy arrays (poles, zeros, bode, freqresp, step, margins), block
+diagrams (load_diagram, Diagram.linearize), code generation (generate_code) and
+scenarios (run_scenario: logs as NumPy arrays, metrics as a dict). Mistakes raise
+dmbd.InputError (a ValueError) or one of its kinds, with the library's message
+(file:line:column: ... where a file is involved).
+
+    >>> import numpy as np, dmbd
+    >>> G = dmbd.tf("1/(s^2 + 2*s + 5)")
+    >>> dmbd.poles(G)
+    array([-1.-2.j, -1.+2.j])
+"""
+from ._dmbd import *  # noqa: F401,F403  (every public name of the extension)
+from ._dmbd import __version__  # noqa: F401

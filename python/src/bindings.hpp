@@ -1,0 +1,16 @@
+#pragma once
+// The Python module's parts (docs/python.md), one file each, registered by module.cpp in
+// this order: errors first (every other part's exceptions are translated by it), then
+// the systems, their analysis, diagrams, code generation and scenarios.
+#include "pybind.hpp"
+
+namespace dmbd::python {
+
+void bind_errors(py::module_& m);    // errors.cpp: InputError and its kinds as Python exceptions
+void bind_lti(py::module_& m);       // lti.cpp: TransferFunction, StateSpace, interconnection, c2d/d2c
+void bind_analysis(py::module_& m);  // analysis.cpp: poles, zeros, Bode, step, margins
+void bind_diagrams(py::module_& m);  // diagrams.cpp: load_diagram, Diagram.linearize
+void bind_codegen(py::module_& m);   // codegen.cpp: generate_code
+void bind_sim(py::module_& m);       // sim.cpp: run_scenario, ScenarioRun
+
+}  // namespace dmbd::python
