@@ -1,6 +1,8 @@
 // run_scenario and read_run: a scenario's run directory (log.csv, metrics.json).
 #include "dmbd/sim/run_directory.hpp"
 
+#include "variant_controllers.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -33,7 +35,8 @@ nlohmann::json run_json(const VariantResult& r) {
   j["real_time_factor"] = r.real_time_factor;
   j["integrator_steps"] = r.integrator_steps;
   j["controller_steps"] = r.controller_steps;
-  j["controller_clamp_events"] = r.clamp_events;
+  j["controller_clamp_events"] = nlohmann::json::array();
+  for (const auto& c : r.clamp_events) j["controller_clamp_events"].push_back(c ? nlohmann::json(*c) : nlohmann::json());
   j["truth"] = nlohmann::json::object();
   for (const auto& [k, v] : r.truth) j["truth"][k] = v;
   if (!r.timing_us.empty())
@@ -42,6 +45,15 @@ nlohmann::json run_json(const VariantResult& r) {
     j["fixed_point"].push_back({{"controller", f.controller}, {"output", f.output}, {"unit", f.unit}, {"word_bits", f.word_bits},
                                 {"error_bound", f.bound}, {"range", f.range}});
   if (!r.warnings.empty()) j["warnings"] = r.warnings;
+  if (r.sil) {
+    nlohmann::json& sil = j["sil"];
+    sil = {{"compiler", r.sil->compiler}, {"version", r.sil->version}, {"flags", r.sil->flags}, {"controllers", nlohmann::json::array()}};
+    for (const auto& c : r.sil->controllers) {
+      nlohmann::json e = {{"controller", c.controller}, {"scalar", c.scalar}, {"object", c.object}, {"compile_s", c.compile_s}};
+      if (c.saturations) e["saturations"] = *c.saturations;
+      sil["controllers"].push_back(e);
+    }
+  }
   return j;
 }
 
@@ -50,6 +62,17 @@ double number_of(const nlohmann::json& j) {
   if (j.is_number()) return j.get<double>();
   const std::string t = j.is_string() ? j.get<std::string>() : "NaN";
   return t == "inf" ? HUGE_VAL : (t == "-inf" ? -HUGE_VAL : std::nan(""));
+}
+
+// run_json's "sil" read back.
+SilFacts sil_facts(const nlohmann::json& j) {
+  SilFacts f{j.value("compiler", ""), j.value("version", ""), j.value("flags", ""), {}};
+  for (const auto& c : j.value("controllers", nlohmann::json::array())) {
+    SilController e{c.value("controller", ""), c.value("scalar", ""), c.value("object", ""), number_of(c.value("compile_s", nlohmann::json())), {}};
+    if (c.contains("saturations") && c["saturations"].is_number_unsigned()) e.saturations = c["saturations"].get<unsigned long long>();
+    f.controllers.push_back(e);
+  }
+  return f;
 }
 
 nlohmann::json metrics_json(const Scenario& s, const std::vector<VariantResult>& runs, const ExperimentResult& e) {
@@ -190,6 +213,7 @@ ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const Scenar
   res.scenario = s;
   double total = 0, done = 0;
   for (const auto& v : s.variants) total += options.duration_s.value_or(v.duration_s);
+  build_generated_controllers(s);  // every generated controller compiled first, several at once
   for (const auto& v : s.variants) {
     res.runs.push_back(run_one(s, v, options, done, total));
     done += options.duration_s.value_or(v.duration_s);
@@ -233,7 +257,9 @@ ScenarioRun read_run(const std::string& dir) {
     r.real_time_factor = j.value("real_time_factor", 0.0);
     r.integrator_steps = j.value("integrator_steps", 0LL);
     r.controller_steps = j.value("controller_steps", std::vector<long long>{});
-    r.clamp_events = j.value("controller_clamp_events", std::vector<unsigned long long>{});
+    for (const auto& c : j.value("controller_clamp_events", nlohmann::json::array()))
+      r.clamp_events.push_back(c.is_number_unsigned() ? std::optional<unsigned long long>(c.get<unsigned long long>()) : std::nullopt);
+    if (j.contains("sil") && j["sil"].is_object()) r.sil = sil_facts(j["sil"]);
     if (j.contains("truth"))
       for (auto it = j["truth"].begin(); it != j["truth"].end(); ++it) r.truth[it.key()] = number_of(it.value());
     if (j.contains("timing_us"))

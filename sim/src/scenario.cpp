@@ -180,9 +180,11 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   spec.seed = v.seed;
   spec.force_noise_N = v.force_noise_N;
   spec.cooling = v.cooling;
+  std::vector<VariantController> scenario_controllers;
   for (const auto& c : v.controllers) {
-    VariantController vc = variant_controller(s, c, spec.duration_s);
-    spec.controllers.push_back(std::move(vc.spec));
+    scenario_controllers.push_back(variant_controller(s, c, spec.duration_s));
+    const VariantController& vc = scenario_controllers.back();
+    spec.controllers.push_back(vc.spec);
     res.fixed_point.insert(res.fixed_point.end(), vc.fixed_point.begin(), vc.fixed_point.end());
   }
 
@@ -209,7 +211,7 @@ VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOpt
   res.real_time_factor = spec.duration_s / std::max(res.wall_s, 1e-9);
   res.integrator_steps = plant.integrator_steps() - steps0;
   res.controller_steps = sim.controller_steps();
-  res.clamp_events = sim.controller_clamp_events();
+  record_controllers(sim, spec, scenario_controllers, res);
   fixed_point_warnings(res);
   if (osc) tick_timing(osc->tick_times_us(), "osc", res);
   if (balance) tick_timing(balance->tick_times_us(), "wbc", res);

@@ -99,7 +99,8 @@ void Reader::loads(const YAML::Node& n, RobotSetup& r) const {
 }
 
 ControllerSetup Reader::controller(const YAML::Node& n) const {
-  keys(n, "controller", {"name", "diagram", "parameters", "rate_hz", "delay_s", "scalar", "word_bits", "inputs", "outputs"});
+  keys(n, "controller",
+       {"name", "diagram", "parameters", "rate_hz", "delay_s", "scalar", "word_bits", "implementation", "inputs", "outputs"});
   ControllerSetup c;
   if (!n["name"] || !n["diagram"]) fail(n, "controller: expected 'name' and 'diagram'");
   c.where = at(n["name"]);
@@ -124,6 +125,12 @@ ControllerSetup Reader::controller(const YAML::Node& n) const {
   optional(n, "word_bits", [&](const YAML::Node& w) {
     c.word_bits = static_cast<int>(integer(w, "controller.word_bits", 16, 32));
     if (c.word_bits != 16 && c.word_bits != 32) fail(w, "controller.word_bits: expected 16 or 32");
+  });
+  optional(n, "implementation", [&](const YAML::Node& i) {
+    const std::string t = text(i, "controller.implementation");
+    if (t == "interpreter") c.implementation = Implementation::Interpreter;
+    else if (t == "generated") c.implementation = Implementation::Generated;
+    else fail(i, "controller.implementation: expected interpreter or generated, got '" + t + "'");
   });
   for (const char* side : {"inputs", "outputs"}) rd.guard([&] { ports(n, side, c); });
   return c;

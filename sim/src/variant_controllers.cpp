@@ -65,34 +65,95 @@ std::vector<FixedPointFacts> facts(const ControllerSetup& c, const diagrams::Dia
 
 }  // namespace
 
-VariantController variant_controller(const Scenario& s, const ControllerSetup& c, double duration_s) {
+namespace {
+
+// A controller's diagram loaded with its parameters and lowered at its rate (and, in
+// fixed point, the program's fixed form).
+struct Lowered {
+  std::shared_ptr<const diagrams::Diagram> diagram;
+  std::shared_ptr<const codegen::LoopProgram> program;
+  std::shared_ptr<const codegen::FixedProgram> fixed;
+};
+
+Lowered lowered(const ControllerSetup& c) {
   blocks::ParameterMap overrides;
   for (const auto& [k, val] : c.parameters) overrides[k] = val;
-  const auto d = diagrams::Diagram::load(c.diagram, overrides);
+  Lowered l;
+  l.diagram = diagrams::Diagram::load(c.diagram, overrides);
   codegen::LowerOptions lo;
   lo.rate_hz = c.rate_hz;
-  if (d->discretization()) lo.method = *d->discretization();
-  auto program = std::make_shared<codegen::LoopProgram>(codegen::lower(*d, lo));
-  const std::string cwhere = c.where.empty() ? s.file : c.where;
+  if (l.diagram->discretization()) lo.method = *l.diagram->discretization();
+  l.program = std::make_shared<codegen::LoopProgram>(codegen::lower(*l.diagram, lo));
+  if (c.scalar == Scalar::Fixed)
+    l.fixed = std::make_shared<codegen::FixedProgram>(codegen::make_fixed(*l.program, input_ranges(*l.diagram), c.word_bits));
+  return l;
+}
+
+GeneratedSource generated_source(const ControllerSetup& c, const Lowered& l) { return {l.program, c.scalar, l.fixed, c.diagram}; }
+
+std::string where_of(const Scenario& s, const ControllerSetup& c) { return c.where.empty() ? s.file : c.where; }
+
+}  // namespace
+
+VariantController variant_controller(const Scenario& s, const ControllerSetup& c, double duration_s) {
+  const Lowered l = lowered(c);
+  const std::string cwhere = where_of(s, c);
   VariantController vc;
-  std::shared_ptr<const codegen::FixedProgram> fixed;
-  if (c.scalar == Scalar::Fixed) {
-    fixed = std::make_shared<codegen::FixedProgram>(codegen::make_fixed(*program, input_ranges(*d), c.word_bits));
-    vc.fixed_point = facts(c, *d, *program, *fixed, duration_s);
-  }
+  if (c.scalar == Scalar::Fixed) vc.fixed_point = facts(c, *l.diagram, *l.program, *l.fixed, duration_s);
   ControllerSpec& cs = vc.spec;
   cs.name = c.name;
   cs.delay_s = c.delay_s;
   cs.where = cwhere;
   try {
-    cs.controller = loop_program_controller(program, c.scalar, fixed);
+    if (c.implementation == Implementation::Generated) {
+      vc.generated = generated_controller(generated_source(c, l));
+      cs.controller = vc.generated;
+    } else {
+      cs.controller = loop_program_controller(l.program, c.scalar, l.fixed);
+    }
   } catch (InputError& e) {
     e.prepend(cwhere + ": controller '" + c.name + "': ");
     throw;
   }
-  cs.inputs = bind_ports(c, d->inputs(), true, cwhere, &cs.input_where);
-  cs.outputs = bind_ports(c, d->outputs(), false, cwhere, nullptr);
+  cs.inputs = bind_ports(c, l.diagram->inputs(), true, cwhere, &cs.input_where);
+  cs.outputs = bind_ports(c, l.diagram->outputs(), false, cwhere, nullptr);
   return vc;
+}
+
+void build_generated_controllers(const Scenario& s) {
+  std::vector<SharedObjectSource> sources;
+  std::vector<std::string> context;  // how each one's errors begin
+  for (const auto& v : s.variants)
+    for (const auto& c : v.controllers) {
+      if (c.implementation != Implementation::Generated) continue;
+      context.push_back(s.file + ": variant '" + v.name + "': " + where_of(s, c) + ": controller '" + c.name + "': ");
+      try {
+        sources.push_back(sil_source(generated_source(c, lowered(c))));
+      } catch (InputError& e) {
+        e.prepend(context.back());
+        throw;
+      }
+    }
+  const std::vector<SharedObjectBuild> built = build_shared_objects(sources);
+  for (std::size_t k = 0; k < built.size(); ++k)
+    if (!built[k].object) throw InputError(context[k] + "the generated code " + built[k].error);
+}
+
+void record_controllers(const Simulation& sim, const SimulationSpec& spec, const std::vector<VariantController>& scenario_controllers,
+                        VariantResult& r) {
+  const std::vector<unsigned long long> clamps = sim.controller_clamp_events();
+  for (std::size_t k = 0; k < clamps.size() && k < spec.controllers.size(); ++k)
+    r.clamp_events.push_back(spec.controllers[k].controller->counts_clamp_events() ? std::optional<unsigned long long>(clamps[k])
+                                                                                    : std::nullopt);
+  for (const auto& vc : scenario_controllers) {
+    if (!vc.generated) continue;
+    const GeneratedSource& g = vc.generated->source();
+    const SharedObjectBuild& b = vc.generated->build();
+    if (!r.sil) r.sil = SilFacts{b.compiler.command, b.compiler.version, b.compiler.flags, {}};
+    const std::string scalar = g.scalar == Scalar::Fixed ? "fixed" + std::to_string(g.fixed->word_bits)
+                                                         : (g.scalar == Scalar::Float ? "float" : "double");
+    r.sil->controllers.push_back({vc.spec.name, scalar, b.key, b.compile_s, vc.generated->saturations()});
+  }
 }
 
 std::shared_ptr<OscController> osc_controller(const Scenario& s, const VariantSetup& v, const VariantPlant& vp,

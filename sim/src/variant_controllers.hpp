@@ -1,10 +1,13 @@
 #pragma once
 // Internal to sim/: a scenario's controller built for its run: the diagram loaded with
-// the controller's parameters, lowered at its rate, in its scalar type, its ports bound
-// to bus signals (errors named where the scenario wrote them), and in fixed point the
+// the controller's parameters, lowered at its rate, in its scalar type, run by the
+// interpreter or as its generated code (sil_controller.hpp), its ports bound to bus
+// signals (errors named where the scenario wrote them), and in fixed point the
 // predicted error bound of each output over the run.
 #include <memory>
 #include <vector>
+
+#include "sil_controller.hpp"
 
 #include "dmbd/sim/scenario.hpp"
 
@@ -13,9 +16,23 @@ namespace dmbd::sim {
 struct VariantController {
   ControllerSpec spec;
   std::vector<FixedPointFacts> fixed_point;
+  std::shared_ptr<GeneratedController> generated;  // the same as spec.controller, as its generated code
 };
 
 VariantController variant_controller(const Scenario& s, const ControllerSetup& c, double duration_s);
+
+// Compiles the generated code of every controller of the scenario's variants that runs
+// as its generated code (implementation: generated), several at once, before any
+// variant runs; each later variant_controller() finds its object built. Throws
+// InputError "FILE: variant 'V': FILE:LINE:COL: controller 'C': the generated code does
+// not compile (c++): the compiler's first error line (full log: PATH)".
+void build_generated_controllers(const Scenario& s);
+
+// After the run of `spec`: the saturation blocks engaged per controller (none for one
+// that does not count them), and the scenario's controllers that ran as their generated
+// code, with their compiler (r.sil).
+void record_controllers(const Simulation& sim, const SimulationSpec& spec, const std::vector<VariantController>& scenario_controllers,
+                        VariantResult& r);
 
 // The variant's operational space controller (VariantSetup::osc): the robot as
 // simulated with its base fixed where the scenario fixed it, the plant's actuators, the

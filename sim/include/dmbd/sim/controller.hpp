@@ -4,7 +4,8 @@
 // t_k = k / rate), names its input and output ports, and steps without allocating. The
 // bus binds its ports to signals and adds the computation delay (ControllerSpec in
 // simulation.hpp). Loop programs (the generated code's arithmetic, run by codegen's
-// interpreters) are one implementation; a whole-body controller is another kind.
+// interpreters, or the generated code itself compiled and loaded: software in the
+// loop) are one implementation; a whole-body controller is another kind.
 #include <memory>
 #include <string>
 
@@ -26,6 +27,9 @@ class Controller {
   virtual void step(const double* u, double* y) = 0;
   // Saturations engaged so far (0 for a controller without any).
   virtual unsigned long long clamp_events() const { return 0; }
+  // Whether clamp_events() counts them: false for one that cannot tell (a loop program
+  // run as its compiled generated code, which does not count; its clamp_events() is 0).
+  virtual bool counts_clamp_events() const { return true; }
 };
 
 enum class Scalar { Double, Float, Fixed };

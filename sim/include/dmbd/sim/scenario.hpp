@@ -60,6 +60,10 @@ struct RobotSetup {
   std::map<std::string, std::string> where;
 };
 
+// What runs a scenario controller's loop program: codegen's interpreter, or its
+// generated code compiled by the system compiler and loaded (software in the loop).
+enum class Implementation { Interpreter, Generated };
+
 struct ControllerSetup {
   std::string name;
   std::string diagram;                         // resolved path
@@ -68,6 +72,7 @@ struct ControllerSetup {
   double delay_s = 0;
   Scalar scalar = Scalar::Double;
   int word_bits = 32;
+  Implementation implementation = Implementation::Interpreter;
   std::vector<std::pair<std::string, std::string>> inputs;   // program input -> bus signal
   std::vector<std::pair<std::string, std::string>> outputs;  // program output -> bus signal
   std::string where;                                         // "file:line:col" of the controller
@@ -145,6 +150,22 @@ struct FixedPointFacts {
   double range = 0;                            // the output's largest magnitude (its declared range)
 };
 
+// A controller of the run as its generated code (implementation: generated).
+struct SilController {
+  std::string controller;                      // its name in the scenario
+  std::string scalar;                          // double, float, fixed16 or fixed32
+  std::string object;                          // 16 hex digits naming the compiled text (identical
+                                               // controllers share one object)
+  double compile_s = 0;                        // wall time of its compilation (once per object and process)
+  std::optional<unsigned long long> saturations;  // fixed point: words the generated code saturated
+};
+
+// The run's generated controllers and what compiled them.
+struct SilFacts {
+  std::string compiler, version, flags;        // command ($CXX or c++), its --version line, the flags
+  std::vector<SilController> controllers;      // in list order
+};
+
 struct VariantResult {
   std::string name;
   std::vector<std::pair<std::string, std::string>> axes;
@@ -153,7 +174,10 @@ struct VariantResult {
   double real_time_factor = 0;                 // simulated / wall time
   long long integrator_steps = 0;
   std::vector<long long> controller_steps;
-  std::vector<unsigned long long> clamp_events;
+  // Saturation blocks engaged, per controller; none for a controller that does not count
+  // them (Controller::counts_clamp_events: the generated code).
+  std::vector<std::optional<unsigned long long>> clamp_events;
+  std::optional<SilFacts> sil;                 // when a controller ran as its generated code
   std::map<std::string, double> truth;         // the simulator's true values the experiment may need
   std::vector<FixedPointFacts> fixed_point;    // per fixed-point controller output
   std::vector<std::string> warnings;           // one line each (a fixed-point bound beyond its range)
