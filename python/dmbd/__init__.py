@@ -12,5 +12,14 @@ dmbd.InputError (a ValueError) or one of its kinds, with the library's message
     >>> dmbd.poles(G)
     array([-1.-2.j, -1.+2.j])
 """
+from . import _dmbd
 from ._dmbd import *  # noqa: F401,F403  (every public name of the extension)
 from ._dmbd import __version__  # noqa: F401
+
+# The classes are dmbd.TransferFunction, ... (not dmbd._dmbd.TransferFunction) in
+# reprs and help().
+for _name in dir(_dmbd):
+    _obj = getattr(_dmbd, _name)
+    if isinstance(_obj, type) and _obj.__module__ == _dmbd.__name__:
+        _obj.__module__ = __name__
+del _name, _obj

@@ -25,7 +25,7 @@ namespace {
 
 // The SISO transfer of a system argument; InputError for a StateSpace with more than
 // one input or output.
-b::Siso siso_of(const py::handle& sys, const std::string& what) {
+b::Siso siso_of(const py::object& sys, const std::string& what) {
   if (py::isinstance<StateSpace>(sys)) {
     const StateSpace& s = sys.cast<const StateSpace&>();
     if (s.num_inputs() != 1 || s.num_outputs() != 1)
@@ -37,20 +37,20 @@ b::Siso siso_of(const py::handle& sys, const std::string& what) {
   throw py::type_error(what + ": expected a TransferFunction or a StateSpace, got " + py::str(py::type::of(sys)).cast<std::string>());
 }
 
-bool is_mimo(const py::handle& sys) {
+bool is_mimo(const py::object& sys) {
   if (!py::isinstance<StateSpace>(sys)) return false;
   const StateSpace& s = sys.cast<const StateSpace&>();
   return s.num_inputs() != 1 || s.num_outputs() != 1;
 }
 
-std::vector<b::Complex> poles(const py::handle& sys) {
+std::vector<b::Complex> poles(const py::object& sys) {
   if (py::isinstance<StateSpace>(sys)) return sys.cast<const StateSpace&>().poles();
   return as_tf(sys).poles();
 }
 
-bool discrete(const py::handle& sys) { return sample_time(sys) > 0.0; }
+bool discrete(const py::object& sys) { return sample_time(sys) > 0.0; }
 
-py::object zeros(const py::handle& sys) {
+py::object zeros(const py::object& sys) {
   if (is_tf_like(sys)) return to_array(as_tf(sys).zeros());
   const b::Siso g = siso_of(sys, "zeros");
   const b::Zpk& z = g.zpk();
@@ -62,12 +62,12 @@ py::object zeros(const py::handle& sys) {
 // such as the double zero at z = -1 of a Tustin discretisation, are not), a state-space
 // model from the zeros, poles and gain of its transfer. Both phases are unwrapped from DC
 // factor by factor (frequency.hpp).
-b::Bode siso_bode(const py::handle& sys, const std::vector<double>& w, const std::string& what) {
+b::Bode siso_bode(const py::object& sys, const std::vector<double>& w, const std::string& what) {
   if (is_tf_like(sys)) return b::bode(as_tf(sys), w);
   return b::bode(siso_of(sys, what).zpk(), w);
 }
 
-py::object freqresp(const py::handle& sys, const py::handle& w_obj) {
+py::object freqresp(const py::object& sys, const py::object& w_obj) {
   const std::vector<double> w = to_vector(w_obj, "w");
   if (!is_mimo(sys)) return to_array(siso_bode(sys, w, "freqresp").response);
   const StateSpace& s = sys.cast<const StateSpace&>();
@@ -81,7 +81,7 @@ py::object freqresp(const py::handle& sys, const py::handle& w_obj) {
   return std::move(out);
 }
 
-py::tuple bode(const py::handle& sys, const py::handle& w_obj) {
+py::tuple bode(const py::object& sys, const py::object& w_obj) {
   const b::Bode bd = siso_bode(sys, to_vector(w_obj, "w"), "bode");
   return py::make_tuple(to_array(bd.mag_db), to_array(bd.phase_deg));
 }
@@ -101,7 +101,7 @@ std::pair<double, int> step_grid(const std::vector<double>& t, double ts) {
   return {t_end, static_cast<int>(t.size())};
 }
 
-py::array_t<double> step(const py::handle& sys, const py::handle& t_obj) {
+py::array_t<double> step(const py::object& sys, const py::object& t_obj) {
   const b::Siso g = siso_of(sys, "step");
   const auto [t_end, n] = step_grid(to_vector(t_obj, "t"), g.ts());
   const b::Siso::Step st = g.step(t_end, n);
@@ -110,7 +110,7 @@ py::array_t<double> step(const py::handle& sys, const py::handle& t_obj) {
   return to_array(y);
 }
 
-py::dict step_info(const py::handle& sys, const py::handle& t_end_obj, int n) {
+py::dict step_info(const py::object& sys, const py::object& t_end_obj, int n) {
   const b::Siso g = siso_of(sys, "step_info");
   const double t_end = t_end_obj.is_none() ? g.default_step_horizon() : t_end_obj.cast<double>();
   const b::StepInfo i = g.step(t_end, n).info;
@@ -119,7 +119,7 @@ py::dict step_info(const py::handle& sys, const py::handle& t_end_obj, int n) {
                   "peak"_a = optional_float(i.peak), "peak_time_s"_a = optional_float(i.peak_time_s));
 }
 
-py::dict margins(const py::handle& sys) {
+py::dict margins(const py::object& sys) {
   const b::Margins m = b::margins(siso_of(sys, "margins").zpk());
   py::list gc, pc;
   for (const b::Crossing& c : m.gain_crossovers) gc.append(py::dict("w_rad_s"_a = c.w_rad_s, "phase_margin_deg"_a = c.margin));
@@ -131,7 +131,7 @@ py::dict margins(const py::handle& sys) {
                   "phase_crossovers"_a = pc);
 }
 
-py::object dc_gain(const py::handle& sys) {
+py::object dc_gain(const py::object& sys) {
   if (is_mimo(sys)) return to_array(sys.cast<const StateSpace&>().dc_gain());
   return optional_float(siso_of(sys, "dc_gain").zpk().dc_gain());
 }
@@ -139,14 +139,14 @@ py::object dc_gain(const py::handle& sys) {
 }  // namespace
 
 void bind_analysis(py::module_& m) {
-  m.def("poles", [](const py::handle& sys) { return to_array(poles(sys)); }, "sys"_a, R"doc(
+  m.def("poles", [](const py::object& sys) { return to_array(poles(sys)); }, "sys"_a, R"doc(
 Every pole (complex array, sorted by real then imaginary part): the roots of a
 TransferFunction's denominator, the eigenvalues of a StateSpace's A.)doc");
   m.def("zeros", &zeros, "sys"_a, R"doc(
 The zeros (complex array): the roots of a TransferFunction's numerator; of a SISO
 StateSpace, the zeros of its transfer as `dmbd analyze` finds them (modes it does not
 see left out).)doc");
-  m.def("stability", [](const py::handle& sys) { return std::string(b::to_string(b::stability(poles(sys), discrete(sys)))); },
+  m.def("stability", [](const py::object& sys) { return std::string(b::to_string(b::stability(poles(sys), discrete(sys)))); },
         "sys"_a, R"doc(
 "stable" (every pole with Re s < 0, |z| < 1), "marginal" (none outside, those on the
 boundary simple) or "unstable", over every pole (as poles()).)doc");
@@ -156,7 +156,7 @@ inputs or outputs, an array of shape (len(w), outputs, inputs).)doc");
   m.def("bode", &bode, "sys"_a, "w"_a, R"doc(
 (mag_db, phase_deg) of a SISO system at w (rad/s), NumPy arrays. The phase is unwrapped
 from DC factor by factor (docs/analyze.md), not from the first frequency.)doc");
-  m.def("frequency_grid", [](const py::handle& sys, int n) { return to_array(b::default_frequency_grid(siso_of(sys, "frequency_grid").zpk(), n)); },
+  m.def("frequency_grid", [](const py::object& sys, int n) { return to_array(b::default_frequency_grid(siso_of(sys, "frequency_grid").zpk(), n)); },
         "sys"_a, "n"_a = 400, "n log-spaced frequencies (rad/s) two decades beyond the poles and zeros (to Nyquist when discrete).");
   m.def("step", &step, "sys"_a, "t"_a, R"doc(
 The unit-step response y (NumPy array) of a SISO system from rest at the times t, which
@@ -166,7 +166,7 @@ multiples k ts of its sample time. Exact at the samples (matrix exponential).)do
 The step figures of a stable SISO system as a dict: rise_time_s (10-90 %),
 settling_time_s (2 %), overshoot_pct, final_value, peak, peak_time_s (None when
 unstable), refined between samples. t_end defaults to step_horizon(sys).)doc");
-  m.def("step_horizon", [](const py::handle& sys) { return siso_of(sys, "step_horizon").default_step_horizon(); }, "sys"_a,
+  m.def("step_horizon", [](const py::object& sys) { return siso_of(sys, "step_horizon").default_step_horizon(); }, "sys"_a,
         "A reasonable final time (s) for a step response, from the poles.");
   m.def("margins", &margins, "sys"_a, R"doc(
 Gain and phase margins of a loop transfer (negative feedback), as a dict:
@@ -174,7 +174,7 @@ gain_margin_db, phase_crossover_rad_s, phase_margin_deg, gain_crossover_rad_s (N
 where there is no crossover; the margin of smallest magnitude, as MATLAB's margin),
 and every crossing: gain_crossovers [{w_rad_s, phase_margin_deg}], phase_crossovers
 [{w_rad_s, gain_margin_db}].)doc");
-  m.def("bandwidth", [](const py::handle& sys, double drop_db) { return optional_float(b::bandwidth(siso_of(sys, "bandwidth").zpk(), drop_db)); },
+  m.def("bandwidth", [](const py::object& sys, double drop_db) { return optional_float(b::bandwidth(siso_of(sys, "bandwidth").zpk(), drop_db)); },
         "sys"_a, "drop_db"_a = -3.0, "First frequency (rad/s) where |G| falls drop_db below |G(0)|; None if never.");
   m.def("dc_gain", &dc_gain, "sys"_a,
         "The steady-state gain: a float (None when infinite) for a SISO system, a matrix for a StateSpace with several channels.");

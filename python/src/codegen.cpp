@@ -34,7 +34,7 @@ struct Lowered {
   std::vector<Range> input_ranges;
 };
 
-cg::LowerOptions lower_options(double rate_hz, const py::handle& method, const py::handle& block_methods) {
+cg::LowerOptions lower_options(double rate_hz, const py::object& method, const py::object& block_methods) {
   cg::LowerOptions lo;
   lo.rate_hz = rate_hz;
   if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) throw InputError("rate_hz " + std::to_string(rate_hz) + ": expected a rate > 0 Hz");
@@ -47,8 +47,8 @@ cg::LowerOptions lower_options(double rate_hz, const py::handle& method, const p
   return lo;
 }
 
-Lowered lower(const py::handle& source, const cg::LowerOptions& lo, bool method_given, const std::optional<Range>& range,
-              const py::handle& params) {
+Lowered lower(const py::object& source, const cg::LowerOptions& lo, bool method_given, const std::optional<Range>& range,
+              const py::object& params) {
   if (py::isinstance<b::TransferFunction>(source)) {
     if (!params.is_none()) throw InputError("params apply to a diagram, not to a TransferFunction");
     Lowered out{cg::lower(source.cast<const b::TransferFunction&>(), "tf", lo), {}, {}};
@@ -66,9 +66,9 @@ Lowered lower(const py::handle& source, const cg::LowerOptions& lo, bool method_
   return out;
 }
 
-std::string generate_code(const py::handle& source, double rate_hz, const py::handle& method, const py::handle& block_methods,
-                          const std::string& scalar, int word_bits, const py::handle& input_range, const py::handle& name,
-                          const py::handle& params) {
+std::string generate_code(const py::object& source, double rate_hz, const py::object& method, const py::object& block_methods,
+                          const std::string& scalar, int word_bits, const py::object& input_range, const py::object& name,
+                          const py::object& params) {
   if (scalar != "double" && scalar != "float" && scalar != "fixed")
     throw InputError("scalar '" + scalar + "': expected double, float or fixed");
   if (word_bits != 32 && word_bits != 16) throw InputError("word_bits " + std::to_string(word_bits) + ": expected 16 or 32");

@@ -26,7 +26,7 @@ struct LoadedDiagram {
   std::shared_ptr<const d::Diagram> diagram;
 };
 
-LoadedDiagram load(const py::handle& path, const py::handle& params) {
+LoadedDiagram load(const py::object& path, const py::object& params) {
   LoadedDiagram l;
   l.source = d::DiagramSource::load(to_path(path));
   l.diagram = l.source->evaluate(to_parameters(params));
@@ -83,7 +83,7 @@ parameter values. Made by load_diagram().)doc")
                              })
       .def_property_readonly("signals", [](const LoadedDiagram& l) { return d::signal_names(*l.diagram); },
                              "Every signal name linearize() accepts.")
-      .def("with_parameters", [](const LoadedDiagram& l, const py::handle& params) {
+      .def("with_parameters", [](const LoadedDiagram& l, const py::object& params) {
              return LoadedDiagram{l.source, l.source->evaluate(to_parameters(params))};
            },
            "params"_a, "The same diagram at other parameter values {name: value} (the file is not read again).")

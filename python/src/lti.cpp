@@ -48,7 +48,7 @@ double sample_time(const py::handle& x) {
 namespace {
 
 // tf("expression"): in s, or in z with a sample time (as `dmbd analyze --tf`).
-TransferFunction parse_tf(const std::string& text, double ts, const py::handle& params) {
+TransferFunction parse_tf(const std::string& text, double ts, const py::object& params) {
   try {
     const b::Expression e = b::Expression::parse(text);
     const bool discrete = e.uses('z');
@@ -80,7 +80,7 @@ std::string ss_repr(const StateSpace& s) {
 
 StateSpace negated(const StateSpace& s) { return StateSpace(s.a(), s.b(), -s.c(), -s.d(), s.ts()); }
 
-StateSpace make_ss(const py::handle& a, const py::handle& bm, const py::handle& c, const py::handle& d, double ts) {
+StateSpace make_ss(const py::object& a, const py::object& bm, const py::object& c, const py::object& d, double ts) {
   const b::Matrix A = to_matrix(a, "A", Vector1D::Scalar), B = to_matrix(bm, "B", Vector1D::Column),
                   C = to_matrix(c, "C", Vector1D::Row);
   const b::Matrix D = d.is_none() ? b::Matrix::Zero(C.rows(), B.cols()) : to_matrix(d, "D", Vector1D::Row);
@@ -89,7 +89,7 @@ StateSpace make_ss(const py::handle& a, const py::handle& bm, const py::handle& 
 
 // The interconnection functions on any two systems: transfer functions stay transfer
 // functions; anything with a StateSpace is done in state space.
-py::object series(const py::handle& first, const py::handle& second) {
+py::object series(const py::object& first, const py::object& second) {
   if (is_tf_like(first) && is_tf_like(second)) {
     const double ts = std::max(sample_time(first), sample_time(second));
     return py::cast(as_tf(second, ts) * as_tf(first, ts));
@@ -98,27 +98,27 @@ py::object series(const py::handle& first, const py::handle& second) {
   return py::cast(b::series(as_ss(first, "series", ts), as_ss(second, "series", ts)));
 }
 
-py::object parallel(const py::handle& x, const py::handle& y) {
+py::object parallel(const py::object& x, const py::object& y) {
   const double ts = std::max(sample_time(x), sample_time(y));
   if (is_tf_like(x) && is_tf_like(y)) return py::cast(as_tf(x, ts) + as_tf(y, ts));
   return py::cast(b::parallel(as_ss(x, "parallel", ts), as_ss(y, "parallel", ts)));
 }
 
-py::object feedback(const py::handle& forward, const py::handle& back, int sign) {
+py::object feedback(const py::object& forward, const py::object& back, int sign) {
   if (sign != 1 && sign != -1) throw InputError("feedback: sign must be -1 (negative feedback) or +1");
   const double ts = std::max(sample_time(forward), sample_time(back));
   if (is_tf_like(forward) && is_tf_like(back)) return py::cast(b::feedback(as_tf(forward, ts), as_tf(back, ts), sign));
   return py::cast(b::feedback(as_ss(forward, "feedback", ts), as_ss(back, "feedback", ts), sign));
 }
 
-py::object c2d(const py::handle& sys, double ts, const std::string& method, double prewarp) {
+py::object c2d(const py::object& sys, double ts, const std::string& method, double prewarp) {
   const b::C2dMethod m = b::parse_c2d_method(method);
   if (py::isinstance<StateSpace>(sys)) return py::cast(b::c2d(sys.cast<const StateSpace&>(), ts, m, prewarp));
   if (py::isinstance<TransferFunction>(sys)) return py::cast(b::c2d(sys.cast<const TransferFunction&>(), ts, m, prewarp));
   throw py::type_error("c2d: expected a TransferFunction or a StateSpace");
 }
 
-py::object d2c(const py::handle& sys, const std::string& method, double prewarp) {
+py::object d2c(const py::object& sys, const std::string& method, double prewarp) {
   const b::C2dMethod m = b::parse_c2d_method(method);
   if (py::isinstance<StateSpace>(sys)) return py::cast(b::d2c(sys.cast<const StateSpace&>(), m, prewarp));
   if (py::isinstance<TransferFunction>(sys)) return py::cast(b::d2c(sys.cast<const TransferFunction&>(), m, prewarp));
@@ -130,7 +130,7 @@ py::object d2c(const py::handle& sys, const std::string& method, double prewarp)
 // StateSpace does the interconnection in state space).
 template <typename F>
 auto tf_operator(F f) {
-  return [f](const TransferFunction& g, const py::handle& h) -> py::object {
+  return [f](const TransferFunction& g, const py::object& h) -> py::object {
     if (!is_tf_like(h)) return py::reinterpret_borrow<py::object>(Py_NotImplemented);
     return py::cast(f(g, as_tf(h, g.ts())));
   };
@@ -144,7 +144,7 @@ TransferFunction(num, den, ts=0.0) takes coefficient lists, highest power first;
 denominator is made monic. dmbd.tf("1/(s+1)") parses an expression. Operators: g * h
 (series), g + h, g - h (parallel), g / h, -g, g ** n, also with numbers. Immutable.
 )doc");
-  c.def(py::init([](const py::handle& num, const py::handle& den, double ts) {
+  c.def(py::init([](const py::object& num, const py::object& den, double ts) {
           return TransferFunction::from_descending(to_vector(num, "num"), to_vector(den, "den"), ts);
         }),
         "num"_a, "den"_a, "ts"_a = 0.0)
@@ -165,7 +165,7 @@ denominator is made monic. dmbd.tf("1/(s+1)") parses an expression. Operators: g
       .def("is_stable", &TransferFunction::is_stable, "Every pole with Re s < 0 (|z| < 1).")
       .def("minreal", &TransferFunction::minreal, "tol"_a = 1e-7,
            "Pole/zero pairs closer than tol relative to (1 + |root|) cancelled.")
-      .def("__call__", [](const TransferFunction& g, const py::handle& x) { return map_complex(x, [&g](b::Complex v) { return g.evaluate(v); }); },
+      .def("__call__", [](const TransferFunction& g, const py::object& x) { return map_complex(x, [&g](b::Complex v) { return g.evaluate(v); }); },
            "x"_a, "The value at a point (or an array of points) of the s- or z-plane.")
       .def("__mul__", tf_operator([](const TransferFunction& g, const TransferFunction& h) { return g * h; }), py::is_operator())
       .def("__rmul__", tf_operator([](const TransferFunction& g, const TransferFunction& h) { return h * g; }), py::is_operator())
@@ -211,7 +211,7 @@ Immutable.
            "input"_a = 0, "The transfer function from one input to one output.")
       .def("minimal", &StateSpace::minimal, "tol"_a = 1e-9, "Uncontrollable, then unobservable states removed.")
       .def("balanced", &StateSpace::balanced, "The same system under a diagonal power-of-two similarity.")
-      .def("transformed", [](const StateSpace& s, const py::handle& t) { return s.transformed(to_matrix(t, "T", Vector1D::Scalar)); },
+      .def("transformed", [](const StateSpace& s, const py::object& t) { return s.transformed(to_matrix(t, "T", Vector1D::Scalar)); },
            "T"_a, "A' = T^-1 A T, B' = T^-1 B, C' = C T.")
       .def("select", &StateSpace::select, "outputs"_a, "inputs"_a, "The sub-system from some inputs to some outputs.")
       .def("__getitem__",
@@ -222,12 +222,12 @@ Immutable.
                                      std::to_string(s.num_inputs()) + " inputs");
              return s.select({ij.first}, {ij.second});
            })
-      .def("__mul__", [](const StateSpace& s, const py::handle& o) { return b::series(as_ss(o, "*", s.ts()), s); }, py::is_operator())
-      .def("__rmul__", [](const StateSpace& s, const py::handle& o) { return b::series(s, as_ss(o, "*", s.ts())); }, py::is_operator())
-      .def("__add__", [](const StateSpace& s, const py::handle& o) { return b::parallel(s, as_ss(o, "+", s.ts())); }, py::is_operator())
-      .def("__radd__", [](const StateSpace& s, const py::handle& o) { return b::parallel(as_ss(o, "+", s.ts()), s); }, py::is_operator())
-      .def("__sub__", [](const StateSpace& s, const py::handle& o) { return b::parallel(s, negated(as_ss(o, "-", s.ts()))); }, py::is_operator())
-      .def("__rsub__", [](const StateSpace& s, const py::handle& o) { return b::parallel(as_ss(o, "-", s.ts()), negated(s)); }, py::is_operator())
+      .def("__mul__", [](const StateSpace& s, const py::object& o) { return b::series(as_ss(o, "*", s.ts()), s); }, py::is_operator())
+      .def("__rmul__", [](const StateSpace& s, const py::object& o) { return b::series(s, as_ss(o, "*", s.ts())); }, py::is_operator())
+      .def("__add__", [](const StateSpace& s, const py::object& o) { return b::parallel(s, as_ss(o, "+", s.ts())); }, py::is_operator())
+      .def("__radd__", [](const StateSpace& s, const py::object& o) { return b::parallel(as_ss(o, "+", s.ts()), s); }, py::is_operator())
+      .def("__sub__", [](const StateSpace& s, const py::object& o) { return b::parallel(s, negated(as_ss(o, "-", s.ts()))); }, py::is_operator())
+      .def("__rsub__", [](const StateSpace& s, const py::object& o) { return b::parallel(as_ss(o, "-", s.ts()), negated(s)); }, py::is_operator())
       .def("__neg__", &negated)
       .def("__repr__", &ss_repr);
 }
@@ -245,7 +245,7 @@ tf("1/((s/wc)^2 + sqrt(2)*s/wc + 1)", params={"wc": 377.0}) (the grammar of
   m.def("tf", [](const StateSpace& sys, int output, int input) { return sys.to_tf(output, input); }, "sys"_a,
         "output"_a = 0, "input"_a = 0, "The transfer function of one channel of a StateSpace.");
   m.def("tf", [](const TransferFunction& g) { return g; }, "g"_a);
-  m.def("tf", [](const py::handle& num, const py::handle& den, double ts) {
+  m.def("tf", [](const py::object& num, const py::object& den, double ts) {
           return TransferFunction::from_descending(to_vector(num, "num"), to_vector(den, "den"), ts);
         },
         "num"_a, "den"_a, "ts"_a = 0.0, "A transfer function from coefficient lists, highest power first.");
@@ -259,7 +259,7 @@ tf("1/((s/wc)^2 + sqrt(2)*s/wc + 1)", params={"wc": 377.0}) (the grammar of
   m.def("parallel", &parallel, "a"_a, "b"_a, "y = a(u) + b(u).");
   m.def("feedback", &feedback, "forward"_a, "back"_a = 1.0, "sign"_a = -1,
         "The closed loop u = r + sign * back(y), y = forward(u); sign = -1 is negative feedback.");
-  m.def("append", [](const py::handle& x, const py::handle& y) {
+  m.def("append", [](const py::object& x, const py::object& y) {
           const double ts = std::max(sample_time(x), sample_time(y));
           return b::append(as_ss(x, "append", ts), as_ss(y, "append", ts));
         },

@@ -25,7 +25,7 @@ struct ScenarioResult {
   sim::ScenarioRun run;
   std::optional<std::string> out_dir;  // none: a temporary folder, removed
 
-  const sim::VariantResult& variant(const py::handle& name) const {
+  const sim::VariantResult& variant(const py::object& name) const {
     if (name.is_none()) {
       if (run.runs.size() == 1) return run.runs.front();
       throw py::key_error("the scenario has " + std::to_string(run.runs.size()) + " variants: name one (" + variant_list() + ")");
@@ -50,7 +50,7 @@ std::string temporary_folder() {
   return pattern;
 }
 
-ScenarioResult run(const py::handle& path, const py::handle& duration_s, const py::handle& out_dir) {
+ScenarioResult run(const py::object& path, const py::object& duration_s, const py::object& out_dir) {
   const std::string file = to_path(path);
   sim::ScenarioRunOptions o;
   if (!duration_s.is_none()) {
@@ -94,7 +94,7 @@ A scenario's run: every variant's log and the experiment's metrics. Made by run_
                              },
                              "The variants' names, in the scenario's order.")
       .def("log",
-           [](const ScenarioResult& r, const py::handle& variant) {
+           [](const ScenarioResult& r, const py::object& variant) {
              const sim::Log& log = r.variant(variant).log;
              py::dict d;
              for (size_t c = 0; c < log.columns(); ++c) d[py::str(log.name(static_cast<int>(c)))] = to_array(log.column(static_cast<int>(c)));
@@ -104,7 +104,7 @@ A scenario's run: every variant's log and the experiment's metrics. Made by run_
 A variant's log as {signal: NumPy array}, every array one value per logged instant; "t"
 is the time (s). variant may be omitted when the scenario has one.)doc")
       .def("units",
-           [](const ScenarioResult& r, const py::handle& variant) {
+           [](const ScenarioResult& r, const py::object& variant) {
              const sim::Log& log = r.variant(variant).log;
              py::dict d;
              for (size_t c = 0; c < log.columns(); ++c) d[py::str(log.name(static_cast<int>(c)))] = log.unit(static_cast<int>(c));
