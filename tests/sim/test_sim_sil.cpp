@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <ostream>
 #include <set>
 #include <string>
 #include <vector>
@@ -92,13 +93,20 @@ struct Shipped {
 // fade-in of its two sinusoids and beyond, at each of its eight variants.
 const Shipped kShipped[] = {{"position_controllers", 0.6, 4}, {"force_dob", 0.25, 8}};
 
-class SimSilShipped : public ::testing::TestWithParam<Scalar> {};
+// A scalar type as the test's parameter, printed by name.
+struct ScalarCase {
+  Scalar scalar;
+  const char* name;
+};
+void PrintTo(const ScalarCase& c, std::ostream* os) { *os << c.name; }
+
+class SimSilShipped : public ::testing::TestWithParam<ScalarCase> {};
 
 // The test: SIL runs of position_controllers.yaml and force_dob.yaml produce the
 // interpreter's logs, bit for bit. The metrics name the compiler, and the generated
 // controllers' clamp events are not counted (null), those of the interpreter are.
 TEST_P(SimSilShipped, GeneratedCodeGivesTheInterpretersLogBitForBit) {
-  const Scalar scalar = GetParam();
+  const Scalar scalar = GetParam().scalar;
   TempDir dir;
   std::set<std::string> objects;
   for (const Shipped& sh : kShipped) {
@@ -119,7 +127,7 @@ TEST_P(SimSilShipped, GeneratedCodeGivesTheInterpretersLogBitForBit) {
       EXPECT_NE(g.sil->flags.find("-ffp-contract=off"), std::string::npos) << g.sil->flags;
       EXPECT_FALSE(g.sil->compiler.empty());
       for (const auto& c : g.sil->controllers) {
-        EXPECT_EQ(c.scalar, scalar == Scalar::Fixed ? "fixed32" : scalar == Scalar::Float ? "float" : "double");
+        EXPECT_EQ(c.scalar, GetParam().name);
         EXPECT_EQ(c.saturations.has_value(), scalar == Scalar::Fixed);
         EXPECT_EQ(c.object.size(), 16u);
         if (here.insert(c.object).second) compile_s += c.compile_s;
@@ -154,10 +162,10 @@ TEST_P(SimSilShipped, GeneratedCodeGivesTheInterpretersLogBitForBit) {
   EXPECT_EQ(objects.size(), 6u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Scalars, SimSilShipped, ::testing::Values(Scalar::Double, Scalar::Float, Scalar::Fixed),
-                         [](const auto& info) {
-                           return std::string(info.param == Scalar::Double ? "Double" : info.param == Scalar::Float ? "Float" : "Fixed");
-                         });
+INSTANTIATE_TEST_SUITE_P(Scalars, SimSilShipped,
+                         ::testing::Values(ScalarCase{Scalar::Double, "double"}, ScalarCase{Scalar::Float, "float"},
+                                           ScalarCase{Scalar::Fixed, "fixed32"}),
+                         [](const auto& info) { return std::string(info.param.name); });
 
 // The comparison above can fail: float's log is not double's.
 TEST(SimSil, FloatAndDoubleLogsDiffer) {
