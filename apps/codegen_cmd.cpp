@@ -12,6 +12,7 @@
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/file.hpp"
 #include "dmbd/codegen/emit.hpp"
+#include "dmbd/codegen/emit_c.hpp"
 #include "dmbd/codegen/fixed.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 
@@ -21,7 +22,7 @@ namespace b = dmbd::blocks;
 namespace cg = dmbd::codegen;
 
 CodegenCommand::CodegenCommand(CLI::App& app)
-    : Command(app, "codegen", "Generate a C++ control loop from a diagram or a transfer function") {
+    : Command(app, "codegen", "Generate a C++ or C control loop from a diagram or a transfer function") {
   cmd_->add_option("diagram", diagram_, "A diagram file (YAML)");
   cmd_->add_option("--tf", tf_, "A transfer function instead of a diagram");
   cmd_->add_option("--rate", rate_, "Loop rate in Hz")->required();
@@ -31,11 +32,12 @@ CodegenCommand::CodegenCommand(CLI::App& app)
   cmd_->add_option("--block-method", block_methods_, "BLOCK=METHOD: another method for one block; repeatable");
   cmd_->add_option("--scalar", scalar_, "double (default), float or fixed");
   cmd_->add_option("--word", word_, "Fixed-point word: 16 or 32 bits (default 32)");
+  cmd_->add_option("--language", language_, "cpp (default: <name>.hpp) or c (C99: <name>.h and <name>.c)");
   cmd_->add_option("--input-range", input_range_, "LO:HI of every input where the diagram gives none (verification)");
-  cmd_->add_option("--name", name_, "Namespace and file name (default: the diagram's name, or 'tf')");
+  cmd_->add_option("--name", name_, "Namespace (C: symbol prefix) and file name (default: the diagram's name, or 'tf')");
   cmd_->add_option("--out", out_, "Output folder (default .)");
   cmd_->add_option("--param", params_, "NAME=VALUE parameter override; repeatable");
-  cmd_->add_flag("--verify", verify_, "Compile the header and compare it with the interpreter on a chirp and a step");
+  cmd_->add_flag("--verify", verify_, "Compile the generated code and compare it with the interpreter on a chirp and a step");
 }
 
 namespace {
@@ -108,7 +110,7 @@ Generated from_diagram(const std::string& file, const b::ParameterMap& params, c
 void check_identifier(const std::string& name) {
   for (char c : name)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
-      throw InputError("--name '" + name + "': expected a C++ identifier");
+      throw InputError("--name '" + name + "': expected a C or C++ identifier");
 }
 
 }  // namespace
@@ -124,6 +126,8 @@ int CodegenCommand::run() {
   const bool fixed = scalar_ == "fixed";
   const cg::Scalar scalar = scalar_ == "float" ? cg::Scalar::Float : cg::Scalar::Double;
   if (word_ != "32" && word_ != "16") throw InputError("--word '" + word_ + "': expected 16 or 32");
+  if (language_ != "cpp" && language_ != "c") throw InputError("--language '" + language_ + "': expected c or cpp");
+  const cg::Language language = language_ == "c" ? cg::Language::C : cg::Language::Cpp;
   check_output_folder(out_, "--out");
   const std::optional<Range> range = parse_range(input_range_, params);
   Generated gen = tf_given ? from_tf(tf_, params, lo, range) : from_diagram(diagram_, params, lo, !method_.empty(), range);
@@ -131,21 +135,34 @@ int CodegenCommand::run() {
   if (!name_.empty()) program.name = name_;
   check_identifier(program.name);
   gen.source.scalar = fixed ? "fixed " + word_ + "-bit" : std::string(cg::to_string(scalar));
-  const std::string header = (std::filesystem::path(out_) / (program.name + ".hpp")).string();
-  for (const char* file : {".hpp", ".report.json", ".report.md"})
-    check_output_file((std::filesystem::path(out_) / (program.name + file)).string(), "--out");
+  gen.source.language = cg::to_string(language);
+  // C++: <name>.hpp; C: <name>.h and <name>.c.
+  auto path = [&](const char* ext) { return (std::filesystem::path(out_) / (program.name + ext)).string(); };
+  const std::string header = path(language == cg::Language::C ? ".h" : ".hpp");
+  std::vector<std::string> files{header, path(".report.json"), path(".report.md")};
+  if (language == cg::Language::C) files.push_back(path(".c"));
+  for (const std::string& file : files) check_output_file(file, "--out");
 
   std::optional<cg::FixedProgram> fx;
   if (fixed) fx = cg::make_fixed(program, gen.source.input_ranges, word_ == "32" ? 32 : 16);
   const nlohmann::json base = codegen_report(program, fx ? &*fx : nullptr, gen.source);
-  write_file_atomic(header, fixed ? cg::emit_fixed_header(program, *fx, {scalar, gen.source.text})
-                                  : cg::emit_header(program, {scalar, gen.source.text}));
-  std::cout << "wrote " << header << " (" << program.states.size() << " states, "
+  const cg::EmitOptions eo{scalar, gen.source.text};
+  std::string wrote = header;
+  if (language == cg::Language::C) {
+    const cg::CFiles c = fixed ? cg::emit_fixed_c(program, *fx, eo) : cg::emit_c(program, eo);
+    write_file_atomic(header, c.header);
+    write_file_atomic(path(".c"), c.source);
+    wrote += " and " + path(".c");
+  } else {
+    write_file_atomic(header, fixed ? cg::emit_fixed_header(program, *fx, eo) : cg::emit_header(program, eo));
+  }
+  std::cout << "wrote " << wrote << " (" << program.states.size() << " states, "
             << program.output_ops.size() + program.update_ops.size() << " operations per step)\n";
   for (const auto& w : base["warnings"]) std::cout << "warning: " << w.get<std::string>() << "\n";
   nlohmann::json report = base;
   VerifyOutcome v;
-  if (verify_) v = verify_generated(program, scalar, header, out_, gen.source.input_ranges, fx ? &*fx : nullptr, report);
+  if (verify_)
+    v = verify_generated(program, scalar, header, out_, gen.source.input_ranges, fx ? &*fx : nullptr, report, language);
   write_codegen_report(report, out_, program.name);
   if (!v.identical) {
     std::cerr << "dmbd: error: generated code differs from the interpreter (it must be bit-identical)\n";

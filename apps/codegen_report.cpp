@@ -120,6 +120,7 @@ json codegen_report(const cg::LoopProgram& program, const cg::FixedProgram* fixe
               {"rate_hz", program.rate_hz},
               {"method", blocks::to_string(program.method)},
               {"scalar", source.scalar},
+              {"language", source.language},
               {"warnings", program.warnings}};
   add_slots_and_blocks(report, program, source.input_ranges);
   if (fixed) add_quantisation(report, program, *fixed, source);

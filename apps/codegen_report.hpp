@@ -19,6 +19,7 @@ using Range = std::pair<double, double>;
 struct CodegenSource {
   std::string text;                                 // "the diagram examples/...yaml"
   std::string scalar;                               // "double", "float", "fixed 16-bit"
+  std::string language = "cpp";                     // of the generated code: "cpp" or "c"
   std::vector<Range> input_ranges;                  // per program input
   std::vector<std::optional<Range>> output_ranges;  // per program output, where the diagram gives one
   std::vector<std::string> output_units;

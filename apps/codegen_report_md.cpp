@@ -102,7 +102,8 @@ void write_codegen_report(const nlohmann::json& r, const std::string& dir, const
   std::ostringstream md;
   md << "# " << name << ": code generation report\n\n"
      << "Generated from " << r["source"].get<std::string>() << " at " << r["rate_hz"].get<double>() << " Hz ("
-     << r["method"].get<std::string>() << "), " << r["scalar"].get<std::string>() << " arithmetic.\n\n"
+     << r["method"].get<std::string>() << "), " << r["scalar"].get<std::string>() << " arithmetic, "
+     << (r.value("language", "cpp") == "c" ? "C99" : "C++11") << " code.\n\n"
      << "## Blocks\n\n| block | type | fields | realisation |\n|---|---|---|---|\n";
   md_signals(md, r);
   if (r.contains("predicted_error_bound")) md_quantisation(md, r);

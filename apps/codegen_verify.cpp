@@ -85,7 +85,7 @@ bool report_fixed(const cg::LoopProgram& program, const cg::VerifyResult& v, jso
 
 VerifyOutcome verify_generated(const cg::LoopProgram& program, cg::Scalar scalar, const std::string& header,
                                const std::string& out_dir, const std::vector<Range>& ranges,
-                               const cg::FixedProgram* fixed, json& report) {
+                               const cg::FixedProgram* fixed, json& report, cg::Language language) {
   const std::string work = (std::filesystem::path(out_dir) / (".verify_" + program.name)).string();
   struct RemoveWhenDone {  // also when verification fails: no harness left behind
     const std::string& dir;
@@ -94,7 +94,7 @@ VerifyOutcome verify_generated(const cg::LoopProgram& program, cg::Scalar scalar
       std::filesystem::remove_all(dir, ec);
     }
   } remove{work};
-  const cg::VerifyResult v = cg::verify(program, scalar, header, work, ranges, fixed);
+  const cg::VerifyResult v = cg::verify(program, scalar, header, work, ranges, fixed, language);
   report["verification"] = {{"samples", v.samples}, {"max_abs_error", v.max_abs_error}, {"max_output", v.max_output},
                             {"sqnr_db", std::isfinite(v.sqnr_db) ? json(v.sqnr_db) : json(nullptr)},
                             {"saturations", v.saturations}, {"ns_per_step", v.ns_per_step},

@@ -1,5 +1,5 @@
 #pragma once
-// `dmbd codegen --verify`: compile the generated header, run it and the interpreter on
+// `dmbd codegen --verify`: compile the generated code (C++ or C), run it and the interpreter on
 // the verification chirp and step, and (fixed point) check the exact program against
 // the predicted error bound; the figures go into the report and on stdout.
 #include <nlohmann/json.hpp>
@@ -8,6 +8,7 @@
 
 #include "codegen_report.hpp"
 #include "dmbd/codegen/emit.hpp"
+#include "dmbd/codegen/emit_c.hpp"
 
 namespace dmbd::apps {
 
@@ -16,9 +17,11 @@ struct VerifyOutcome {
   bool within_bound = true;  // fixed point: the error within its bound wherever its hypothesis held
 };
 
-// The harness is built in `out_dir`/.verify_<name> and removed afterwards.
+// The harness is built in `out_dir`/.verify_<name> and removed afterwards. `header`: the
+// generated C++ header, or for C the generated <name>.h (its <name>.c beside it).
 VerifyOutcome verify_generated(const codegen::LoopProgram& program, codegen::Scalar scalar, const std::string& header,
                                const std::string& out_dir, const std::vector<Range>& ranges,
-                               const codegen::FixedProgram* fixed, nlohmann::json& report);
+                               const codegen::FixedProgram* fixed, nlohmann::json& report,
+                               codegen::Language language = codegen::Language::Cpp);
 
 }  // namespace dmbd::apps

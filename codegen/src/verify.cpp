@@ -49,7 +49,93 @@ std::vector<double> interpret(const LoopProgram& p, const std::vector<std::vecto
   return out;
 }
 
+// The C++ harness: reads the inputs, runs the generated step (native types, converted
+// as the interpreter converts them), writes the outputs, and times the step alone.
+std::string cpp_harness(const LoopProgram& p, Scalar scalar, const std::string& header, const FixedProgram* fixed) {
+  const std::string T = fixed ? (fixed->word_bits == 32 ? "int32_t" : "int16_t") : std::string(to_string(scalar));
+  const std::string ns = p.name, sfx = fixed ? std::to_string(fixed->word_bits) : "";
+  // Conversions as the interpreters do them: a cast for float/double, the runtime's
+  // quantiser and converter for fixed point.
+  const std::string to_in = fixed ? ns + "::fx::quantize" + sfx + "(u[k * ni + j], " + ns + "::kInputQ[j], st)"
+                                  : "static_cast<" + T + ">(u[k * ni + j])";
+  const std::string to_out = fixed ? ns + "::fx::dequantize" + sfx + "(yo[j], " + ns + "::kOutputQ[j])"
+                                   : "static_cast<double>(yo[j])";
+  std::ostringstream h;
+  h << "#include \"" << header << "\"\n#include <chrono>\n#include <cstdio>\n#include <vector>\n"
+    << "int main(int argc, char** argv) {\n  (void)argc;\n"
+    << "  const int ni = " << ns << "::kNumInputs, no = " << ns << "::kNumOutputs;\n"
+    << "  std::FILE* f = std::fopen(argv[1], \"rb\");\n  std::vector<double> u;\n  double v;\n"
+    << "  while (std::fread(&v, sizeof v, 1, f) == 1) u.push_back(v);\n  std::fclose(f);\n"
+    << "  const size_t n = u.size() / ni;\n  std::vector<double> out;\n"
+    << (fixed ? "  " + ns + "::fx::Status st{0};\n" : std::string())
+    << "  " << ns << "::Controller c;\n  " << T << " ui[ni], yo[no];\n  std::vector<" << T << "> uq(n * ni);\n"
+    << "  for (size_t k = 0; k < n; ++k)\n    for (int j = 0; j < ni; ++j) uq[k * ni + j] = " << to_in << ";\n"
+    << "  for (size_t k = 0; k < n; ++k) {\n    for (int j = 0; j < ni; ++j) ui[j] = uq[k * ni + j];\n"
+    << "    c.step(ui, yo);\n    for (int j = 0; j < no; ++j) out.push_back(" << to_out << ");\n  }\n"
+    << "  std::FILE* g = std::fopen(argv[2], \"wb\");\n  std::fwrite(out.data(), sizeof(double), out.size(), g);\n  std::fclose(g);\n"
+    << "  long saturations = " << (fixed ? "static_cast<long>(c.saturations())" : "0") << ";\n"
+    << "  // Timing: the whole sequence, repeated, after a warm-up.\n"
+    << "  volatile double sink = 0;\n  c.reset();\n  const int reps = 20;\n"
+    << "  const auto t0 = std::chrono::steady_clock::now();\n"
+    << "  for (int r = 0; r < reps; ++r)\n    for (size_t k = 0; k < n; ++k) {\n"
+    << "      c.step(&uq[k * ni], yo);\n      sink = sink + yo[0];\n    }\n"
+    << "  const double ns_step = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();\n"
+    << "  std::printf(\"%.3f %ld\\n\", ns_step / (reps * static_cast<double>(n)), saturations);\n  return 0;\n}\n";
+  return h.str();
+}
+
+// The C harness: the same in C99 (compiled with the same flags as the generated C). The
+// inputs are quantised with a scratch state, so that the controller's counter holds the
+// step's saturations alone, as in the C++ harness.
+std::string c_harness(const LoopProgram& p, const std::string& header, const FixedProgram* fixed) {
+  const std::string n = p.name;
+  const std::string to_in = fixed ? n + "_quantize_input(&scratch, j, u[k * ni + j])" : "(" + n + "_input)u[k * ni + j]";
+  const std::string to_out = fixed ? n + "_dequantize_output(j, yo[j])" : "(double)yo[j]";
+  const std::string N = c_macro_prefix(n);
+  std::ostringstream h;
+  h << "#define _POSIX_C_SOURCE 199309L  // clock_gettime\n#include \"" << header
+    << "\"\n#include <stdio.h>\n#include <stdlib.h>\n#include <time.h>\n"
+    << "int main(int argc, char** argv) {\n"
+    << "  enum { ni = " << N << "_NUM_INPUTS, no = " << N << "_NUM_OUTPUTS, reps = 20 };\n"
+    << "  size_t cap = 1024, len = 0, n, k;\n  int j, r;\n  double v, ns_step;\n  volatile double sink = 0;\n"
+    << "  long saturations;\n  struct timespec t0, t1;\n  " << n << "_state c, scratch;\n  " << n << "_output yo[no];\n"
+    << "  double *u = malloc(cap * sizeof *u), *out;\n  " << n << "_input* uq;\n  FILE *f, *g;\n"
+    << "  if (argc != 3 || !u || !(f = fopen(argv[1], \"rb\"))) return 1;\n"
+    << "  while (fread(&v, sizeof v, 1, f) == 1) {\n"
+    << "    if (len == cap && !(u = realloc(u, (cap *= 2) * sizeof *u))) return 1;\n    u[len++] = v;\n  }\n"
+    << "  fclose(f);\n  n = len / ni;\n"
+    << "  out = malloc((n * no + 1) * sizeof *out);\n  uq = malloc((n * ni + 1) * sizeof *uq);\n"
+    << "  if (!out || !uq) return 1;\n  " << n << "_reset(&c);\n  " << n << "_reset(&scratch);\n"
+    << "  for (k = 0; k < n; ++k)\n    for (j = 0; j < ni; ++j) uq[k * ni + j] = " << to_in << ";\n"
+    << "  for (k = 0; k < n; ++k) {\n    " << n << "_step(&c, &uq[k * ni], yo);\n"
+    << "    for (j = 0; j < no; ++j) out[k * no + j] = " << to_out << ";\n  }\n"
+    << "  if (!(g = fopen(argv[2], \"wb\"))) return 1;\n  fwrite(out, sizeof(double), n * no, g);\n  fclose(g);\n"
+    << "  saturations = " << (fixed ? "(long)" + n + "_saturations(&c)" : std::string("0")) << ";\n"
+    << "  // Timing: the whole sequence, repeated, after a warm-up.\n  " << n << "_reset(&c);\n"
+    << "  clock_gettime(CLOCK_MONOTONIC, &t0);\n"
+    << "  for (r = 0; r < reps; ++r)\n    for (k = 0; k < n; ++k) {\n"
+    << "      " << n << "_step(&c, &uq[k * ni], yo);\n      sink = sink + yo[0];\n    }\n"
+    << "  clock_gettime(CLOCK_MONOTONIC, &t1);\n"
+    << "  ns_step = (double)(t1.tv_sec - t0.tv_sec) * 1e9 + (double)(t1.tv_nsec - t0.tv_nsec);\n"
+    << "  printf(\"%.3f %ld\\n\", ns_step / (reps * (double)n), saturations);\n"
+    << "  free(u);\n  free(out);\n  free(uq);\n  return 0;\n}\n";
+  return h.str();
+}
+
+std::string quoted(const std::string& path) { return "'" + path + "'"; }
+
 }  // namespace
+
+std::string compile_command(Language language, const std::vector<std::string>& sources, const std::string& binary,
+                            const std::string& extra) {
+  std::string cmd = language == Language::C ? "cc -std=c99 -O2 -Wall -Wextra -pedantic -Werror -ffp-contract=off"
+                                            : "c++ -std=c++11 -O2 -Wall -Wextra -Werror -fno-exceptions -fno-rtti "
+                                              "-ffp-contract=off";
+  if (!extra.empty()) cmd += " " + extra;
+  if (!binary.empty()) cmd += " -o " + quoted(binary);
+  for (const std::string& s : sources) cmd += " " + quoted(s);
+  return cmd;
+}
 
 bool BoundCheck::within(const ErrorBound& b) const {
   for (size_t j = 0; j < max_error_covered.size(); ++j)
@@ -118,7 +204,7 @@ double clamp_free_scale(const LoopProgram& p, const FixedProgram& f, const std::
 }
 
 VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& header, const std::string& work_dir,
-                    const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed) {
+                    const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed, Language language) {
   VerifyResult r;
   fs::create_directories(work_dir);
   const auto u = verification_inputs(p, ranges);
@@ -127,43 +213,17 @@ VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& head
     std::ofstream f(fs::path(work_dir) / "inputs.bin", std::ios::binary);
     for (const auto& row : u) f.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size() * sizeof(double)));
   }
-  // The harness: reads the inputs, runs the generated step (native types, converted as
-  // the interpreter converts them), writes the outputs, and times the step alone.
-  const std::string T = fixed ? (fixed->word_bits == 32 ? "int32_t" : "int16_t") : std::string(to_string(scalar));
-  const std::string ns = p.name, sfx = fixed ? std::to_string(fixed->word_bits) : "";
-  // Conversions as the interpreters do them: a cast for float/double, the runtime's
-  // quantiser and converter for fixed point.
-  const std::string to_in = fixed ? ns + "::fx::quantize" + sfx + "(u[k * ni + j], " + ns + "::kInputQ[j], st)"
-                                  : "static_cast<" + T + ">(u[k * ni + j])";
-  const std::string to_out = fixed ? ns + "::fx::dequantize" + sfx + "(yo[j], " + ns + "::kOutputQ[j])"
-                                   : "static_cast<double>(yo[j])";
-  std::ostringstream h;
-  h << "#include \"" << fs::absolute(header).string() << "\"\n#include <chrono>\n#include <cstdio>\n#include <vector>\n"
-    << "int main(int argc, char** argv) {\n  (void)argc;\n"
-    << "  const int ni = " << ns << "::kNumInputs, no = " << ns << "::kNumOutputs;\n"
-    << "  std::FILE* f = std::fopen(argv[1], \"rb\");\n  std::vector<double> u;\n  double v;\n"
-    << "  while (std::fread(&v, sizeof v, 1, f) == 1) u.push_back(v);\n  std::fclose(f);\n"
-    << "  const size_t n = u.size() / ni;\n  std::vector<double> out;\n"
-    << (fixed ? "  " + ns + "::fx::Status st{0};\n" : std::string())
-    << "  " << ns << "::Controller c;\n  " << T << " ui[ni], yo[no];\n  std::vector<" << T << "> uq(n * ni);\n"
-    << "  for (size_t k = 0; k < n; ++k)\n    for (int j = 0; j < ni; ++j) uq[k * ni + j] = " << to_in << ";\n"
-    << "  for (size_t k = 0; k < n; ++k) {\n    for (int j = 0; j < ni; ++j) ui[j] = uq[k * ni + j];\n"
-    << "    c.step(ui, yo);\n    for (int j = 0; j < no; ++j) out.push_back(" << to_out << ");\n  }\n"
-    << "  std::FILE* g = std::fopen(argv[2], \"wb\");\n  std::fwrite(out.data(), sizeof(double), out.size(), g);\n  std::fclose(g);\n"
-    << "  long saturations = " << (fixed ? "static_cast<long>(c.saturations())" : "0") << ";\n"
-    << "  // Timing: the whole sequence, repeated, after a warm-up.\n"
-    << "  volatile double sink = 0;\n  c.reset();\n  const int reps = 20;\n"
-    << "  const auto t0 = std::chrono::steady_clock::now();\n"
-    << "  for (int r = 0; r < reps; ++r)\n    for (size_t k = 0; k < n; ++k) {\n"
-    << "      c.step(&uq[k * ni], yo);\n      sink = sink + yo[0];\n    }\n"
-    << "  const double ns_step = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();\n"
-    << "  std::printf(\"%.3f %ld\\n\", ns_step / (reps * static_cast<double>(n)), saturations);\n  return 0;\n}\n";
-  const fs::path src = fs::path(work_dir) / "harness.cpp", bin = fs::path(work_dir) / "harness",
-                 log = fs::path(work_dir) / "compile.log", out = fs::path(work_dir) / "outputs.bin",
-                 timing = fs::path(work_dir) / "timing.txt";
-  std::ofstream(src) << h.str();
-  r.compiler_command = "c++ -std=c++11 -O2 -Wall -Wextra -Werror -fno-exceptions -fno-rtti -o '" + bin.string() +
-                       "' '" + src.string() + "'";
+  const fs::path src = fs::path(work_dir) / (language == Language::C ? "harness.c" : "harness.cpp"),
+                 bin = fs::path(work_dir) / "harness", log = fs::path(work_dir) / "compile.log",
+                 out = fs::path(work_dir) / "outputs.bin", timing = fs::path(work_dir) / "timing.txt";
+  std::vector<std::string> sources{src.string()};
+  if (language == Language::C) {
+    sources.push_back(fs::path(header).replace_extension(".c").string());
+    std::ofstream(src) << c_harness(p, fs::absolute(header).string(), fixed);
+  } else {
+    std::ofstream(src) << cpp_harness(p, scalar, fs::absolute(header).string(), fixed);
+  }
+  r.compiler_command = compile_command(language, sources, bin.string());
   if (std::system((r.compiler_command + " > '" + log.string() + "' 2>&1").c_str()) != 0) {
     std::ifstream lf(log);
     std::string line, first;

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -49,6 +50,23 @@ inline LowerOptions at(double rate_hz) {
 // A diagram written inline, parsed as if it lived in tests/codegen/data/ (for subsystem files).
 inline std::shared_ptr<const diagrams::Diagram> parse(const std::string& yaml) {
   return diagrams::Diagram::parse(yaml, kData + "/inline.yaml");
+}
+
+// A gain and a saturation whose limits (+-1e39) lie beyond the float range, input range
+// +-10: a program without state whose float limits are infinite.
+inline std::shared_ptr<const diagrams::Diagram> wide_limits_diagram() {
+  return parse(R"(
+name: wide_limits
+inputs: {u: {range: [-10, 10]}}
+outputs: {y: {}}
+blocks:
+  g:   {type: gain, k: 2}
+  sat: {type: saturation, lower: -1e39, upper: 1e39}
+connections:
+  - u -> g
+  - g -> sat
+  - sat -> y
+)");
 }
 
 // A fresh empty folder under the test temp dir, removed when the test program exits
@@ -88,6 +106,73 @@ inline CliResult run_cli(const std::string& args, const std::string& dir) {
   const std::string log = dir + "/cli.log";
   const int rc = std::system((std::string("'") + DMBD_EXE + "' " + args + " > '" + log + "' 2>&1").c_str());
   return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, read_text(log)};
+}
+
+// Generated code without its // comments (it has no string literals).
+inline std::string code_only(const std::string& text) {
+  std::istringstream s(text);
+  std::string line, out;
+  while (std::getline(s, line)) {
+    const auto c = line.find("//");
+    out += (c == std::string::npos ? line : line.substr(0, c)) + "\n";
+  }
+  return out;
+}
+
+inline std::vector<std::string> lines(const std::string& text) {
+  std::istringstream s(text);
+  std::vector<std::string> out;
+  std::string line;
+  while (std::getline(s, line)) out.push_back(line);
+  return out;
+}
+
+// Generated code (C++ header or C source) comments its statements: every block path
+// appears in a comment as "path (type...", and every assignment of step(), from
+// "// ---- outputs ----" to the line containing `end`, comes after a comment naming
+// its block or carries its own comment (the writes of y excepted).
+inline void expect_commented_statements(const LoopProgram& p, const std::string& text, const std::string& end) {
+  const auto ls = lines(text);
+  for (const BlockInfo& b : p.blocks) {
+    bool found = false;
+    for (const std::string& l : ls) {
+      const auto c = l.find("//");
+      if (c == std::string::npos) continue;
+      const auto at = l.find_first_not_of(' ', c + 2);
+      if (at != std::string::npos && l.compare(at, b.path.size() + 2, b.path + " (") == 0) found = true;
+    }
+    EXPECT_TRUE(found) << "block " << b.path << " is in no comment";
+  }
+  bool in_step = false, under_block = false;
+  for (const std::string& l : ls) {
+    if (l.find("// ---- outputs ----") != std::string::npos) in_step = true, under_block = false;
+    if (!in_step) continue;
+    if (l.find(end) != std::string::npos) break;
+    const auto c = l.find("//");
+    const std::string stmt = c == std::string::npos ? l : l.substr(0, c);
+    if (c != std::string::npos && stmt.find_first_not_of(' ') == std::string::npos) {
+      // A comment line: a block header if it names a block.
+      for (const BlockInfo& b : p.blocks)
+        if (l.find("// " + b.path + " (") != std::string::npos) under_block = true;
+      continue;
+    }
+    const bool assignment = std::regex_search(stmt, std::regex("[A-Za-z_][A-Za-z0-9_]* [-+]?= "));
+    const bool output_write = std::regex_search(stmt, std::regex("^\\s*y\\[[0-9]+\\] = "));
+    if (assignment && !output_write) {
+      EXPECT_TRUE(under_block || c != std::string::npos) << "uncommented statement: " << l;
+    }
+  }
+}
+
+// Float code: every floating literal of `code` between `begin` and `end` carries the f
+// suffix (no silent promotion to double).
+inline void expect_float_literals(const std::string& code, const std::string& begin, const std::string& end) {
+  const auto b = code.find(begin), e = code.find(end);
+  ASSERT_TRUE(b != std::string::npos && e != std::string::npos && b < e) << begin << " ... " << end;
+  const std::string body = code.substr(b, e - b);
+  const std::regex lit("[0-9]\\.[0-9]*(e[-+]?[0-9]+)?f?|[0-9]e[-+]?[0-9]+f?");
+  for (auto it = std::sregex_iterator(body.begin(), body.end(), lit); it != std::sregex_iterator(); ++it)
+    EXPECT_EQ(it->str().back(), 'f') << "double literal " << it->str() << " in float code";
 }
 
 inline const std::vector<std::string>& example_diagrams() {

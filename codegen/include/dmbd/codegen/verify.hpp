@@ -1,11 +1,13 @@
 #pragma once
-// Built-in verification: compile the generated header with the system compiler, drive
-// it and the interpreter with the same chirp and step, and compare.
+// Built-in verification: compile the generated code (C++ header, or C header and source)
+// with the system compiler, drive it and the interpreter with the same chirp and step,
+// and compare.
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "dmbd/codegen/emit.hpp"
+#include "dmbd/codegen/emit_c.hpp"
 #include "dmbd/codegen/fixed.hpp"
 
 namespace dmbd::codegen {
@@ -76,13 +78,23 @@ std::vector<std::vector<double>> verification_inputs(const LoopProgram& p,
                                                      int chirp_samples = kVerifyChirpSamples,
                                                      int step_samples = kVerifyStepSamples);
 
-// `header` is the path of the generated header; `work_dir` receives the harness, its
-// binary and the data files. InputError when the compiler fails (its first error line
-// in the message).
+// The command that compiles and links `sources` into `binary` with the flags generated
+// code must compile with, and without floating-point contraction (so that C, C++ and
+// the interpreter round alike whatever the compiler's default):
+//   C++: c++ -std=c++11 -O2 -Wall -Wextra -Werror -fno-exceptions -fno-rtti -ffp-contract=off
+//   C:   cc -std=c99 -O2 -Wall -Wextra -pedantic -Werror -ffp-contract=off
+// `extra`: more flags (e.g. -c). Every path is quoted for the shell.
+std::string compile_command(Language language, const std::vector<std::string>& sources, const std::string& binary,
+                            const std::string& extra = "");
+
+// `header` is the path of the generated header (C: <name>.h, its <name>.c beside it);
+// `work_dir` receives the harness, its binary and the data files. InputError when the
+// compiler fails (its first error line in the message).
 // With `fixed`, the header is the fixed-point one: compared bit for bit with the fixed
 // interpreter, and against the double program with the predicted bound, its hypothesis
 // checked (on the full input, then if need be on a scaled copy: `clamp_free`).
 VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& header, const std::string& work_dir,
-                    const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed = nullptr);
+                    const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed = nullptr,
+                    Language language = Language::Cpp);
 
 }  // namespace dmbd::codegen
