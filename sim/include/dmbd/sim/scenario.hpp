@@ -72,7 +72,7 @@ struct ControllerSetup {
   double delay_s = 0;
   Scalar scalar = Scalar::Double;
   int word_bits = 32;
-  Implementation implementation = Implementation::Interpreter;
+  Implementation implementation = Implementation::Interpreter;  // interpreter or generated code
   std::vector<std::pair<std::string, std::string>> inputs;   // program input -> bus signal
   std::vector<std::pair<std::string, std::string>> outputs;  // program output -> bus signal
   std::string where;                                         // "file:line:col" of the controller
@@ -162,7 +162,9 @@ struct SilController {
 
 // The run's generated controllers and what compiled them.
 struct SilFacts {
-  std::string compiler, version, flags;        // command ($CXX or c++), its --version line, the flags
+  std::string compiler;                        // the command: $CXX, or c++
+  std::string version;                         // the first line of its --version
+  std::string flags;                           // what it compiled with
   std::vector<SilController> controllers;      // in list order
 };
 
