@@ -117,12 +117,10 @@ SharedObjectBuild compile(const Compiler& c, const SharedObjectSource& s, const 
     return b;
   }
   try {
-    b.object = std::make_shared<const SharedObject>(object.string());
+    b.object = std::make_shared<const SharedObject>(object.string(), dir.string());
   } catch (const InputError& e) {
     b.error = std::string("does not load: ") + e.what();
-    return b;
   }
-  fs::remove_all(dir, ec);  // loaded: the mapping outlives the file
   return b;
 }
 
@@ -140,14 +138,19 @@ Compiler shared_object_compiler() {
   return c;
 }
 
-SharedObject::SharedObject(const std::string& path) : handle_(::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)) {
+SharedObject::SharedObject(const std::string& path, const std::string& build_folder)
+    : handle_(::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)), folder_(build_folder) {
   if (!handle_) {
     const char* why = ::dlerror();
     throw InputError(why ? why : "cannot load '" + path + "'");
   }
 }
 
-SharedObject::~SharedObject() { ::dlclose(handle_); }
+SharedObject::~SharedObject() {
+  ::dlclose(handle_);
+  std::error_code ec;
+  fs::remove_all(folder_, ec);
+}
 
 void* SharedObject::symbol(const char* name) const { return ::dlsym(handle_, name); }
 

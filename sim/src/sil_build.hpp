@@ -6,8 +6,9 @@
 // kSharedObjectFlags. Builds are cached for the life of the process by their exact text
 // (compiler, flags and every file), so identical sources compile once; sources not yet
 // built are compiled several at once (one compiler per core). Each build happens in its
-// own folder under the system's temporary folder, removed once the object is loaded;
-// a build that fails keeps its folder for its compile.log.
+// own folder under the system's temporary folder, removed when its object is unloaded
+// (at the latest when the process exits); a build that fails keeps its folder for its
+// compile.log.
 #include <memory>
 #include <string>
 #include <utility>
@@ -30,11 +31,14 @@ struct Compiler {
 // The compiler builds use now (its version asked once per command).
 Compiler shared_object_compiler();
 
-// A loaded shared object (dlopen, local symbols); closed when the last owner goes.
+// A loaded shared object (dlopen, local symbols); closed when the last owner goes, and
+// then its build folder removed. The file stays while it is loaded: the loader knows a
+// loaded object by its device and inode, and a deleted file's inode may be given to the
+// next object built.
 class SharedObject {
  public:
   // Throws InputError with the loader's reason (which names the file).
-  explicit SharedObject(const std::string& path);
+  SharedObject(const std::string& path, const std::string& build_folder);
   ~SharedObject();
   SharedObject(const SharedObject&) = delete;
   SharedObject& operator=(const SharedObject&) = delete;
@@ -43,6 +47,7 @@ class SharedObject {
 
  private:
   void* handle_ = nullptr;
+  std::string folder_;
 };
 
 struct SharedObjectSource {
