@@ -62,11 +62,15 @@
 
 namespace dmbd::sim {
 
+// Where the controller's base position and velocity come from (`estimator`): Kinematic,
+// the stance foot's kinematics from the IMU and the joints (KinematicComEstimator);
+// MotionCapture, the true base.x .. base.vz plus white noise (six more inputs).
 enum class BalanceEstimator { Kinematic, MotionCapture };
 
 // Joint-level feedback in the WBC's accelerations (1/s², 1/s) for one joint.
 struct JointFeedback {
-  double kp = 0.0, kd = 0.0;
+  // The proportional gain, 1/s² (on the joint's or the task's position error).
+  double kp = 0.0, kd = 0.0;  // the derivative gain, 1/s (on the rate error)
 };
 
 // Feedback in the IK tasks' accelerations, ẍ_cmd = ẍ_d + Kp e + Kd ė (1/s², 1/s). The
@@ -91,7 +95,7 @@ struct BalanceTaskGains {
 // the end; the path asks up to 2.6 m/s² sideways near the middle, where feet 0.19 m apart
 // give about 1.1 m/s²), and the first step is still the smaller for it.
 struct BalanceWeightShift {
-  Eigen::Vector2d offset_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d offset_m = Eigen::Vector2d::Zero();  // added to the feet's midpoint, world x and y, m
   double speed_scale = 1.0;  // on the orbit's speed
 };
 
@@ -100,19 +104,24 @@ struct BalanceWeightShift {
 // torso's heading frame) with the torso's velocity (at the torso's height).
 enum class TvrPoint { Com, Torso };
 
+// The scenario's `balance` (docs/scenario-format.md, "balance"; a variant's is merged
+// into the base's key by key): the balancing controller's set-up. Each field's key is
+// its name unless said otherwise; the names of links and joints are not keys.
 struct BalanceSetup {
   // The posture the start-up's joint move goes to (rad; a joint not listed keeps its
   // initial angle) and the torso height the body lift reaches and stepping keeps (m).
   std::vector<std::pair<std::string, double>> stance_posture;
-  double torso_height_m = 1.0;
+  double torso_height_m = 1.0;     // the torso origin's height target, world z, m
   double swing_ankle_rad = -0.17;  // the swing ankle's flexion target (the paper's 80°)
-  wholebody::PhaseMachineParams phases;
-  wholebody::TvrParams tvr;
-  wholebody::SwingParams swing;
-  wholebody::WbcQpParams qp;
-  TvrPoint tvr_point = TvrPoint::Com;
+  wholebody::PhaseMachineParams phases;  // phase durations, body-lift forces, first swing side
+  wholebody::TvrParams tvr;              // the TVR planner's t_prime_s, kappa, com_height_m
+  wholebody::SwingParams swing;          // the swing foot's spline: mid height, landing speed
+  wholebody::WbcQpParams qp;             // the QP's friction, weights and torque limit
+  TvrPoint tvr_point = TvrPoint::Com;    // the planner's pendulum point (`tvr_point`: com or a map)
+  // TvrPoint::Torso's offset from the torso origin in its heading frame (x forward, y
+  // left), m (`tvr_point.torso_offset_m`).
   Eigen::Vector2d tvr_torso_offset_m{0.06, 0.0};
-  BalanceTaskGains task_gains;
+  BalanceTaskGains task_gains;           // feedback in the IK tasks (none by default but com's)
   // The IK's weight on the floating base's six coordinates (the joints': 1): 1 is the
   // authors' least-norm step; larger keeps the IK from "moving" the robot about its point
   // contacts, which no joint target can do (wholebody::PrioritizedIk::set_weights).
@@ -128,26 +137,35 @@ struct BalanceSetup {
   // The swing foot's sole kept level (its pitch about the world's y axis as it stood at
   // the lift) instead of the swing ankle's joint angle going to swing_ankle_rad.
   bool swing_foot_level = false;
-  BalanceWeightShift weight_shift;
+  BalanceWeightShift weight_shift;       // the weight shift's path (when phases.weight_shift_s > 0)
   // Per joint name (a joint not listed: 0, 0); the authors' [80, 170, 170, 170, 5] and
   // [3, 8, 8, 3, 0] per leg by default (balance_controller.cpp).
   std::vector<std::pair<std::string, JointFeedback>> joint_feedback;
   // DRACO's names: the torso, the feet and the joints the tasks name.
   std::string torso_link = "torso";
+  // The feet's links, [left, right]: each one's contact point is the centre of its
+  // collision spheres (a point foot).
   std::array<std::string, 2> foot_link{"l_foot", "r_foot"};
+  // The hip yaw joints, [left, right] (held by the hip-yaw task).
   std::array<std::string, 2> hip_yaw{"l_hip_yaw", "r_hip_yaw"};
+  // The ankle joints, [left, right]: the swing ankle's task, touch-down on its velocity.
   std::array<std::string, 2> ankle{"l_ankle", "r_ankle"};
   double fall_tilt_rad = 0.5;   // the torso's tilt from the vertical that counts as a fall
-  double rate_hz = 1000;
-  double delay_s = 0.0;
-  std::string q_signal = "q", qd_signal = "qd";
-  BalanceEstimator estimator = BalanceEstimator::Kinematic;
-  double mocap_position_noise_m = 0.001;     // standard deviations of the motion capture
-  double mocap_velocity_noise_m_s = 0.005;
-  unsigned long long seed = 1;
+  double rate_hz = 1000;        // ticks per second
+  double delay_s = 0.0;         // computation delay, s, 0 .. one period
+  // The bus signal of each joint's angle it reads: J.<q_signal> (`sensors.q`).
+  std::string q_signal = "q",
+      // Of each joint's rate: J.<qd_signal> (`sensors.qd`).
+      qd_signal = "qd";
+  BalanceEstimator estimator = BalanceEstimator::Kinematic;  // kinematic or motion_capture
+  double mocap_position_noise_m = 0.001;     // standard deviations of the motion capture: position, m
+  double mocap_velocity_noise_m_s = 0.005;   // ... velocity, m/s (both: `motion_capture_noise`)
+  unsigned long long seed = 1;               // of the motion-capture noise (std::mt19937_64)
   std::string where;  // "file:line:col" of the balance map
 };
 
+// The controller above on the bus (ports: above). Built for a variant with `balance` by
+// run_variant, its ports bound to the signals they are named after.
 class BalanceController : public Controller {
  public:
   // robot: the robot as simulated (floating base); q0: the joint angles at t = 0 by
@@ -159,16 +177,27 @@ class BalanceController : public Controller {
                     long long max_ticks);
   ~BalanceController() override;
 
-  double rate_hz() const override;
-  int num_inputs() const override;
-  int num_outputs() const override;
+  double rate_hz() const override;                // BalanceSetup::rate_hz
+  int num_inputs() const override;                 // 2 per joint + 6 (IMU) + 6 with motion capture
+  int num_outputs() const override;                // 3 per joint + 1 per actuated joint + 28 balance.*
+  // In order: J.<q_signal>, J.<qd_signal> joint by joint, then base.roll, base.pitch,
+  // base.yaw, base.wx, base.wy, base.wz, then (motion capture) base.x, base.y, base.z,
+  // base.vx, base.vy, base.vz.
   std::string input_name(int k) const override;
+  // In order: J.q_des of every joint, then J.qd_des, then J.tau_ff, then J.force_ff per
+  // actuated joint, then balance.phase, swing_side, step, touch_downs, landings,
+  // qp_failures, fallen, com_x, com_y, com_z, com_vx, com_vy, foothold_x, foothold_y,
+  // swing_x_d, swing_y_d, swing_z_d, swing_x, swing_y, swing_z, stance_x, stance_y,
+  // landed_x, landed_y, planned_x, planned_y, fz_l, fz_r.
   std::string output_name(int k) const override;
   std::string output_unit(int k) const override;
+  // One tick: steps 1 to 7 above.
   void step(const double* u, double* y) override;
 
+  // One entry per step() so far, until the storage for max_ticks (the constructor's) is
+  // full, µs.
   const std::vector<double>& tick_times_us() const;
-  long long qp_failures() const;
+  long long qp_failures() const;  // ticks whose QP failed (the last command kept), as balance.qp_failures
 
  private:
   struct Impl;

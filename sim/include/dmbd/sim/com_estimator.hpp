@@ -15,16 +15,20 @@
 
 namespace dmbd::sim {
 
+// One update's estimate, all in the world frame.
 struct ComEstimate {
-  Eigen::Vector3d base_position_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d base_velocity_m_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d com_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d com_velocity_m_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d base_position_m = Eigen::Vector3d::Zero();    // the base (torso) origin, m
+  Eigen::Vector3d base_velocity_m_s = Eigen::Vector3d::Zero();  // its velocity, m/s
+  Eigen::Vector3d com_m = Eigen::Vector3d::Zero();              // the whole robot's centre of mass, m
+  Eigen::Vector3d com_velocity_m_s = Eigen::Vector3d::Zero();   // its velocity, m/s
 };
 
+// The estimator above, over its own floating-base DynamicsModel of the robot. The stance
+// foot is the left one, at the world's origin, until set_stance() says otherwise.
 class KinematicComEstimator {
  public:
-  // feet[side]: each foot's contact point (link and point in it).
+  // left_foot, right_foot: each foot's contact point (link and point in it). InputError
+  // for a link the robot does not have.
   KinematicComEstimator(const model::RobotDescription& robot, const wholebody::FrameSpec& left_foot,
                         const wholebody::FrameSpec& right_foot);
 
@@ -36,6 +40,7 @@ class KinematicComEstimator {
                             const Eigen::Ref<const Eigen::VectorXd>& joint_q,
                             const Eigen::Ref<const Eigen::VectorXd>& joint_v);
 
+  // The model's coordinates (floating base); its joints give update()'s joint order.
   const wholebody::Layout& layout() const { return model_.layout(); }
 
  private:

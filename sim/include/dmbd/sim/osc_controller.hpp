@@ -33,23 +33,31 @@ namespace dmbd::sim {
 // amplitude, with a smooth start s(t) = minimum-jerk ramp 0 → 1 over ramp_s (so that the
 // target's velocity and acceleration start at 0 and are continuous).
 struct OscTrajectory {
-  Eigen::Vector3d amplitude_m = Eigen::Vector3d::Zero();
-  double frequency_hz = 1.0;
-  double ramp_s = 1.0;
+  Eigen::Vector3d amplitude_m = Eigen::Vector3d::Zero();  // a, per world axis, m (`amplitude_m`)
+  double frequency_hz = 1.0;                              // f, Hz (`frequency_hz`)
+  double ramp_s = 1.0;                                    // s, the ramp's length (`ramp_s`; 0: none, s = 1)
   // Target position, velocity and acceleration at t (relative to p_0).
   void evaluate(double t, Eigen::Vector3d& p, Eigen::Vector3d& v, Eigen::Vector3d& a) const;
 };
 
+// The scenario's `osc` (docs/scenario-format.md, "osc"): the controller's point, path,
+// gains, rate and sensors. A variant's `osc` is merged into the base's key by key.
 struct OscSetup {
-  std::string link = "l_foot";                      // the point's link
-  Eigen::Vector3d point_L = Eigen::Vector3d::Zero(); // its place in the link
-  OscTrajectory trajectory;
+  // The point's link (`link`; l_foot: its origin is on the left ankle's axis).
+  std::string link = "l_foot";
+  Eigen::Vector3d point_L = Eigen::Vector3d::Zero(); // its place in the link (`point`), link frame, m
+  OscTrajectory trajectory;                          // `trajectory`: the point's path about p_0
   Eigen::Vector3d kp = Eigen::Vector3d::Constant(400.0);   // task gains, 1/s²
   Eigen::Vector3d kd = Eigen::Vector3d::Constant(40.0);    // 1/s
+  // The posture task's gains (`posture.kp`, 1/s²; every joint toward its starting angle).
   double posture_kp = 100.0, posture_kd = 20.0;            // posture gains, 1/s², 1/s
-  double rate_hz = 1000;
-  double delay_s = 0.0;
-  std::string q_signal = "q", qd_signal = "qd";            // J.q, J.qd unless given
+  double rate_hz = 1000;                                   // `rate_hz`: ticks per second
+  double delay_s = 0.0;                                    // `delay_s`: computation delay, s, 0 .. one period
+  // The bus signal of each joint's angle it reads: J.<q_signal> (`sensors.q`; J.q unless
+  // given, e.g. q_enc).
+  std::string q_signal = "q",
+      // Of each joint's rate: J.<qd_signal> (`sensors.qd`; J.qd unless given).
+      qd_signal = "qd";
   // Add each actuator's output-side damping at the joint, B_l r(q)² q̇_ref (Table I's
   // B_l, which the rigid-body model lacks), to the OSC torque: a feedforward at the
   // least-dissipation joint rates for the reference's rate (osc_controller.cpp).
@@ -57,6 +65,8 @@ struct OscSetup {
   std::string where;                                       // "file:line:col" of the osc map
 };
 
+// The controller above on the bus (ports: above). Built for a variant with `osc` by
+// run_variant, ticking at setup.rate_hz, its ports bound to the signals they are named after.
 class OscController : public Controller {
  public:
   // robot: the robot as simulated (welded joints applied); base fixed at X_WB; q0: the
@@ -69,16 +79,22 @@ class OscController : public Controller {
                 const std::vector<std::pair<std::string, double>>& q0, const OscSetup& setup, long long max_ticks);
   ~OscController() override;
 
-  double rate_hz() const override;
-  int num_inputs() const override;
-  int num_outputs() const override;
+  double rate_hz() const override;                // OscSetup::rate_hz
+  int num_inputs() const override;                 // 2 per joint + 1 per actuated joint
+  int num_outputs() const override;                // 1 per joint + 2 per actuated joint + 6
+  // In order: J.<q_signal>, J.<qd_signal> joint by joint, then J.force per actuated joint.
   std::string input_name(int k) const override;
+  // In order: J.tau_d per joint, then J.force_d, J.tau_s per actuated joint, then osc.x_d,
+  // osc.y_d, osc.z_d, osc.x, osc.y, osc.z (the bus signals they drive).
   std::string output_name(int k) const override;
   std::string output_unit(int k) const override;
+  // One tick: the target at t = (ticks so far) / rate_hz, the OSC torque, the outputs.
   void step(const double* u, double* y) override;
 
   // The joints, in the model's order, and the evaluations' wall times (µs) so far.
   const std::vector<std::string>& joints() const;
+  // One entry per step() so far, until the storage for max_ticks (the constructor's) is
+  // full, µs.
   const std::vector<double>& tick_times_us() const;
 
  private:

@@ -17,24 +17,29 @@
 
 namespace dmbd::sim {
 
+// How run_scenario runs a scenario (dmbd simulate's options).
 struct ScenarioRunOptions {
-  std::optional<double> duration_s;            // overrides the scenario's durations
-  // Progress of the whole scenario (0..1) and the variant running.
+  std::optional<double> duration_s;            // overrides the scenario's durations (s; --duration)
+  // Progress of the whole scenario (0..1, by simulated time over every variant's
+  // duration) and the name of the variant running; called about every 1 % of a run.
   std::function<void(double, const std::string&)> on_progress;
 };
 
+// A run directory's content in memory: what run_scenario wrote, or read_run read back.
 struct ScenarioRun {
-  Scenario scenario;
-  std::vector<VariantResult> runs;
+  Scenario scenario;                           // as given, or (read_run) reloaded from its file
+  std::vector<VariantResult> runs;             // per variant, in order (read_run: those metrics.json lists)
   ExperimentResult experiment;                 // metrics and figures (as data)
   nlohmann::json metrics;                      // as in metrics.json
-  std::vector<std::string> files;              // written, relative to the directory
+  std::vector<std::string> files;              // written (read), relative to the directory: log.csv, metrics.json
 };
 
 // Runs every variant and writes DIR/log.csv and DIR/metrics.json (DIR created if
 // missing). Throws InputError: scenario mistakes found while building a variant and
 // divergences name the scenario file and the variant; a folder or file that cannot be
-// written is an OutputError.
+// written is an OutputError. Generated controllers are compiled first (one that does not
+// compile stops it before any run); nothing is written until every variant has run, and
+// an experiment's error comes after log.csv is written.
 ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const ScenarioRunOptions& options = {});
 
 // A run directory read back: the scenario reloaded from the file metrics.json names,
@@ -49,7 +54,9 @@ ScenarioRun read_run(const std::string& dir);
 // durations); a run's cells are empty at an instant it did not log. A single variant
 // keeps plain names.
 std::string combined_csv(const std::vector<VariantResult>& runs);
-// The inverse: the logs of the named variants from combined_csv's text.
+// The inverse: the logs of the named variants from combined_csv's text (file names it in
+// messages). InputError "FILE:LINE: ..." for a column of no listed variant, a row with
+// another number of cells than the header, or a cell that is not a number.
 std::vector<Log> split_csv(const std::string& csv, const std::vector<std::string>& variants, const std::string& file);
 
 // JSON cannot hold inf or NaN: they become the strings "inf", "-inf", "NaN".

@@ -61,29 +61,33 @@ namespace dmbd::sim {
 // output name publishes "<name>.<port>"), and its computation delay: an output computed
 // from the inputs sampled at t_k is applied at t_k + delay_s (0 <= delay <= one period).
 struct ControllerSpec {
-  std::string name;
-  std::shared_ptr<Controller> controller;
-  double delay_s = 0;
+  std::string name;                   // in messages, and the prefix of its unbound outputs
+  std::shared_ptr<Controller> controller;  // required (InputError when null); its rate is the tick rate
+  double delay_s = 0;                 // computation delay, s, rounded to whole nanoseconds
   std::vector<std::string> inputs;    // bus signal per controller input
   std::vector<std::string> outputs;   // bus signal per controller output
   // Where the controller and each input binding were written ("file:line:col"; empty, or
   // input_where shorter than inputs, when unknown): errors about them start with it.
   std::string where;
-  std::vector<std::string> input_where;
+  std::vector<std::string> input_where;  // "file:line:col" per input binding, in inputs' order
 };
 
+// A reference (a scenario's `references` entry): a new bus signal (no unit) that
+// controllers read, or, named J.current or J.torque of the plant, a command it drives
+// directly. Evaluated at controller ticks and log ticks, held in between.
 struct ReferenceSpec {
   std::string name;  // bus signal
-  Source source;
+  Source source;     // its value against time (s)
   std::string where = {};  // "file:line:col" it was written at, or empty: starts errors about it
 };
 
 // A force on a link: f_W = direction * source(t) at point p_L of the link.
+// (A scenario's `forces` entry; evaluated at every event, held in between.)
 struct ForceSpec {
-  std::string link;
-  Eigen::Vector3d point_L = Eigen::Vector3d::Zero();
-  Eigen::Vector3d direction_W = Eigen::Vector3d::UnitX();
-  Source source;
+  std::string link;                                        // a link of the plant's robot (InputError otherwise)
+  Eigen::Vector3d point_L = Eigen::Vector3d::Zero();       // p_L, link frame, m (`point`)
+  Eigen::Vector3d direction_W = Eigen::Vector3d::UnitX();  // world frame, not normalised: its length scales f
+  Source source;                                           // the magnitude against time, N
   std::string where = {};  // as ReferenceSpec::where
 };
 
@@ -92,38 +96,48 @@ struct ForceSpec {
 // above it on its z axis, each pulled back horizontally to where it was at t = 0 by a
 // spring and damper, until release_s. Horizontal only: the legs carry the weight; the
 // support keeps the torso from tipping or drifting. Updated at every event.
+// (The scenario's robot.support.)
 struct SupportSpec {
-  double release_s = 0.0;
-  double stiffness_N_per_m = 5000.0;
-  double damping_N_s_per_m = 500.0;
-  double height_m = 0.3;
+  double release_s = 0.0;             // s: the support acts while t < release_s
+  double stiffness_N_per_m = 5000.0;  // k of each point's horizontal spring, N/m
+  double damping_N_s_per_m = 500.0;   // c of each point's horizontal damper, N s/m
+  double height_m = 0.3;              // the upper point's height above the base origin, m
 };
 
 // Ends a floating-base run early, without error, once the robot is down: the torso's
 // origin below torso_below_m or its tilt beyond tilt_above_rad (checked after every
 // plant advance; the log then ends with that instant's row). Simulating a robot lying on
 // the ground (only its feet collide) is meaningless and may diverge.
+// (The scenario's end_on_fall.)
 struct EndOnFall {
-  double torso_below_m = 0.5;
-  double tilt_above_rad = 1.0;
+  double torso_below_m = 0.5;   // the base origin's height (base.z), m
+  double tilt_above_rad = 1.0;  // base.tilt, rad
 };
 
+// Which of each actuator's two thermal models (liquid cooling on and off, both always
+// run) are logged (the scenario's thermal.cooling): On or Off as J.T_winding and
+// J.T_housing, Both as J.T_winding_cooled, J.T_housing_cooled, J.T_winding_uncooled and
+// J.T_housing_uncooled (degC).
 enum class Cooling { On, Off, Both };
 
+// Everything a Simulation runs besides the plant (a scenario's variant, built by
+// run_variant; docs/scenario-format.md names each field's key).
 struct SimulationSpec {
+  // Stepped in this order at an instant where several tick (a later one reads an earlier
+  // one's undelayed outputs in the same tick).
   std::vector<ControllerSpec> controllers;
-  std::vector<ReferenceSpec> references;
-  std::vector<ForceSpec> forces;
+  std::vector<ReferenceSpec> references;  // `references`
+  std::vector<ForceSpec> forces;          // `forces`
   std::optional<SupportSpec> support;  // floating base only
   std::optional<EndOnFall> end_on_fall;  // floating base only
-  double duration_s = 1;
-  double log_rate_hz = 1000;
+  double duration_s = 1;              // simulated time, s (0 < duration < 1e9, rounded to whole ns)
+  double log_rate_hz = 1000;          // log rows per second; a whole number of ns per period
   bool sensor_noise = false;          // off: exact readings (no quantisation, no noise)
-  uint64_t seed = 1;
+  uint64_t seed = 1;                  // of the noise (std::mt19937_64); potentiometer k uses seed * 1000003 + k
   double force_noise_N = 0;           // white noise added to J.force when sensor_noise
   Cooling cooling = Cooling::On;      // thermal models run per actuator; Both logs two
-  // Runaway detection: a joint beyond this angle from its limits' span or faster than
-  // this rate means the run diverged.
+  // Runaway detection: a non-finite joint angle, or a joint faster than this (rad/s),
+  // after a plant advance means the run diverged (DivergenceError).
   double max_joint_rate_rad_s = 200;
 };
 
@@ -131,14 +145,20 @@ struct SimulationSpec {
 // the time and the state ("simulation diverged at t = 0.731 s: ... (l_knee q = ...)").
 class DivergenceError : public InputError {
  public:
+  // DivergenceError(message), InputError's constructor: what() is the message as given.
   using InputError::InputError;
 };
 
+// The co-simulation of one plant with a SimulationSpec (above): the bus is built at
+// construction, run() integrates and logs (meant to be called once per object).
 class Simulation {
  public:
-  // The plant must outlive the simulation. Throws InputError (dmbd/blocks/error.hpp)
+  // The plant must outlive the simulation. Throws InputError (dmbd/base/error.hpp)
   // naming a bus signal that nothing provides, a program input/output count mismatch,
-  // a rate that is not a whole number of nanoseconds, or an unknown link.
+  // a rate that is not a whole number of nanoseconds, or an unknown link; also for a
+  // delay outside 0 .. one period, a reference named as an existing signal other than
+  // a command, a signal both a controller and a reference drive, a null controller,
+  // and a support on a base that is not floating.
   Simulation(model::Plant& plant, SimulationSpec spec);
   ~Simulation();
   Simulation(const Simulation&) = delete;
@@ -146,12 +166,19 @@ class Simulation {
 
   // Runs from the plant's current state for spec.duration_s;
   // `on_progress` with the fraction done, about every 1 % of the run.
+  // The log's times count from 0 at the start; it ends early (without error) when
+  // end_on_fall sees the robot down. Throws InputError, before running, for a duration
+  // outside (0, 1e9) s, a log rate that is not a whole number of nanoseconds per period
+  // or a log that would exceed 2 GB; DivergenceError on a runaway; and the plant's
+  // model::ModelError (a failed integrator step) with the joints' state appended.
   Log run(const std::function<void(double)>& on_progress = {});
 
   // Bus signal names (the log's columns follow them).
   std::vector<std::string> signal_names() const;
   // Controller steps taken and saturations engaged, per controller.
   std::vector<long long> controller_steps() const;
+  // Controller::clamp_events() of each controller, in spec order (0 for one that does
+  // not count them: see counts_clamp_events()).
   std::vector<unsigned long long> controller_clamp_events() const;
 
  private:
