@@ -183,11 +183,10 @@ void write_step_body(std::ostream& h, const LoopProgram& p, const FixedProgram* 
     float_statements(h, p, p.output_ops, scalar, x, name);
     h << outputs << x.indent << "// ---- state update ----\n";
     float_statements(h, p, p.update_ops, scalar, x, name);
+    // An accumulation (dst += c a) does not read its slot for anyone else: a signal only
+    // accumulated into is set but not used (clang warns of it).
     for (const auto* ops : {&p.output_ops, &p.update_ops})
-      for (const Op& op : *ops) {
-        read.insert(op.a);
-        if (op.kind == OpKind::Mac) read.insert(op.dst);
-      }
+      for (const Op& op : *ops) read.insert(op.a);
   }
   for (size_t i = 0; i < p.slots.size(); ++i) {
     const Slot& s = p.slots[i];

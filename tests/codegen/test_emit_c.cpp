@@ -1,6 +1,6 @@
 // The C emitter (issue 16, item 4): for every diagram in examples/diagrams and each of
 // double, float, 16- and 32-bit fixed point, the generated C compiles clean under
-// `cc -std=c99 -Wall -Wextra -pedantic -Werror` (and stricter warnings), and on the
+// `cc -std=c99 -Wall -Wextra -pedantic -Werror` (and stricter warnings, and clang), and on the
 // verification chirp and step gives the same bits as the generated C++ and as the
 // interpreter (memcmp of the outputs, and the same saturation count). One compiler call
 // builds all C sources of a scalar type, one more the C harness, one the C++ harness.
@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <optional>
 #include <regex>
 #include <string>
@@ -235,6 +236,21 @@ void check_config(const Config& cfg) {
   ASSERT_EQ(run("cd '" + dir + "' && " + compile_command(Language::C, c_sources, "", std::string("-c ") + kStrictC), dir + "/c.log"), 0)
       << read_text(dir + "/c.log");
   EXPECT_EQ(read_text(dir + "/c.log"), "") << "the compiler said something";
+  // clang too, where installed (it warns of what GCC does not: an unused static function,
+  // a variable set but never read); and the C++ headers, with the C headers from C++.
+  if (std::system("command -v clang > /dev/null 2>&1 && command -v clang++ > /dev/null 2>&1") == 0) {
+    std::string sources;
+    for (const std::string& c : c_sources) sources += " '" + c + "'";
+    EXPECT_EQ(run("clang -std=c99 -Wall -Wextra -pedantic -Werror -fsyntax-only" + sources, dir + "/clang.log"), 0)
+        << read_text(dir + "/clang.log");
+    std::ofstream(dir + "/headers.cpp") << cpp_harness;
+    EXPECT_EQ(run("clang++ -std=c++11 -Wall -Wextra -Werror -fno-exceptions -fno-rtti -fsyntax-only '" + dir + "/headers.cpp'",
+                  dir + "/clang++.log"),
+              0)
+        << read_text(dir + "/clang++.log");
+  } else {
+    std::cout << "clang not found: the C is checked with cc only\n";
+  }
   // Every external symbol of a program's object starts with the program's name.
   for (const Example& x : examples()) {
     ASSERT_EQ(run("nm -g --defined-only '" + dir + "/" + x.p.name + ".o' | awk '{print $3}'", dir + "/nm.log"), 0);
