@@ -152,10 +152,10 @@ struct BalanceSetup {
   std::array<std::string, 2> ankle{"l_ankle", "r_ankle"};
   double fall_tilt_rad = 0.5;   // the torso's tilt from the vertical that counts as a fall
   double rate_hz = 1000;        // ticks per second
-  double delay_s = 0.0;         // computation delay, s, 0 .. one period
-  // The bus signal of each joint's angle it reads: J.<q_signal> (`sensors.q`).
+  double delay_s = 0.0;         // computation delay, s, 0 to one period
+  // The angle signal it reads per joint J: J.<q_signal> (`sensors.q`).
   std::string q_signal = "q",
-      // Of each joint's rate: J.<qd_signal> (`sensors.qd`).
+      // The rate signal it reads per joint J: J.<qd_signal> (`sensors.qd`).
       qd_signal = "qd";
   BalanceEstimator estimator = BalanceEstimator::Kinematic;  // kinematic or motion_capture
   double mocap_position_noise_m = 0.001;     // standard deviations of the motion capture: position, m
@@ -177,12 +177,12 @@ class BalanceController : public Controller {
                     long long max_ticks);
   ~BalanceController() override;
 
-  double rate_hz() const override;                // BalanceSetup::rate_hz
+  double rate_hz() const override;                 // BalanceSetup::rate_hz
   int num_inputs() const override;                 // 2 per joint + 6 (IMU) + 6 with motion capture
-  int num_outputs() const override;                // 3 per joint + 1 per actuated joint + 28 balance.*
-  // In order: J.<q_signal>, J.<qd_signal> joint by joint, then base.roll, base.pitch,
-  // base.yaw, base.wx, base.wy, base.wz, then (motion capture) base.x, base.y, base.z,
-  // base.vx, base.vy, base.vz.
+  int num_outputs() const override;                // 3 per joint + 1 per actuated joint + the 28 balance signals
+  // The bus signals it reads, in order. Per joint J.<q_signal>, J.<qd_signal>, joint by
+  // joint; then base.roll, base.pitch, base.yaw, base.wx, base.wy, base.wz; then (motion
+  // capture) base.x, base.y, base.z, base.vx, base.vy, base.vz.
   std::string input_name(int k) const override;
   // In order: J.q_des of every joint, then J.qd_des, then J.tau_ff, then J.force_ff per
   // actuated joint, then balance.phase, swing_side, step, touch_downs, landings,

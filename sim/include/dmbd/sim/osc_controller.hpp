@@ -47,16 +47,15 @@ struct OscSetup {
   std::string link = "l_foot";
   Eigen::Vector3d point_L = Eigen::Vector3d::Zero(); // its place in the link (`point`), link frame, m
   OscTrajectory trajectory;                          // `trajectory`: the point's path about p_0
-  Eigen::Vector3d kp = Eigen::Vector3d::Constant(400.0);   // task gains, 1/s²
-  Eigen::Vector3d kd = Eigen::Vector3d::Constant(40.0);    // 1/s
-  // The posture task's gains (`posture.kp`, 1/s²; every joint toward its starting angle).
-  double posture_kp = 100.0, posture_kd = 20.0;            // posture gains, 1/s², 1/s
+  Eigen::Vector3d kp = Eigen::Vector3d::Constant(400.0);   // task gains, 1/s² (per world axis; `kp`)
+  Eigen::Vector3d kd = Eigen::Vector3d::Constant(40.0);    // 1/s (`kd`)
+  // The posture task's gains (every joint toward its starting angle): kp, 1/s² (`posture.kp`),
+  double posture_kp = 100.0, posture_kd = 20.0;            // and kd, 1/s (`posture.kd`)
   double rate_hz = 1000;                                   // `rate_hz`: ticks per second
-  double delay_s = 0.0;                                    // `delay_s`: computation delay, s, 0 .. one period
-  // The bus signal of each joint's angle it reads: J.<q_signal> (`sensors.q`; J.q unless
-  // given, e.g. q_enc).
+  double delay_s = 0.0;                                    // `delay_s`: computation delay, s, 0 to one period
+  // The angle signal it reads per joint J: J.<q_signal> (`sensors.q`; e.g. q_enc).
   std::string q_signal = "q",
-      // Of each joint's rate: J.<qd_signal> (`sensors.qd`; J.qd unless given).
+      // The rate signal it reads per joint J: J.<qd_signal> (`sensors.qd`).
       qd_signal = "qd";
   // Add each actuator's output-side damping at the joint, B_l r(q)² q̇_ref (Table I's
   // B_l, which the rigid-body model lacks), to the OSC torque: a feedforward at the
@@ -79,7 +78,7 @@ class OscController : public Controller {
                 const std::vector<std::pair<std::string, double>>& q0, const OscSetup& setup, long long max_ticks);
   ~OscController() override;
 
-  double rate_hz() const override;                // OscSetup::rate_hz
+  double rate_hz() const override;                 // OscSetup::rate_hz
   int num_inputs() const override;                 // 2 per joint + 1 per actuated joint
   int num_outputs() const override;                // 1 per joint + 2 per actuated joint + 6
   // In order: J.<q_signal>, J.<qd_signal> joint by joint, then J.force per actuated joint.

@@ -81,7 +81,7 @@ struct ControllerSetup {
   std::string diagram;                         // resolved path
   std::vector<std::pair<std::string, double>> parameters;  // `parameters`: diagram parameter overrides
   double rate_hz = 1000;                       // `rate_hz`: ticks per second, the lowering rate too
-  double delay_s = 0;                          // `delay_s`: computation delay, s, 0 .. one period
+  double delay_s = 0;                          // `delay_s`: computation delay, s, 0 to one period
   Scalar scalar = Scalar::Double;              // `scalar`: double, float or fixed
   int word_bits = 32;                          // `word_bits`: 16 or 32, the fixed-point word
   Implementation implementation = Implementation::Interpreter;  // interpreter or generated code
@@ -95,7 +95,7 @@ struct ControllerSetup {
 // The scenario's `frames` (docs/scenario-format.md, "frames"): report/ renders the frames
 // and the video from a run's log; sim only reads and keeps it.
 struct FrameSetup {
-  bool enabled = true;                         // `enabled` (`frames: false`: off; --no-frames too)
+  bool enabled = true;                         // `enabled` (`frames: false`: off, as --no-frames)
   double fps = 30;                             // `fps`: the video's frame rate, the highest sampling rate
   // `width`, pixels.
   int width_px = 1280, height_px = 720;        // `height`, pixels
@@ -204,7 +204,7 @@ struct SilFacts {
 struct VariantResult {
   std::string name;                            // the variant's (VariantSetup::name)
   std::vector<std::pair<std::string, std::string>> axes;  // its matrix axis -> value name (none: empty)
-  Log log;                                     // every bus signal at the log rate (simulation.hpp)
+  Log log;                                     // every bus and logged-only signal at the log rate (simulation.hpp)
   double wall_s = 0;                           // wall-clock time of the run
   double real_time_factor = 0;                 // simulated / wall time
   long long integrator_steps = 0;              // the plant integrator's steps over the run

@@ -156,7 +156,7 @@ class Simulation {
   // The plant must outlive the simulation. Throws InputError (dmbd/base/error.hpp)
   // naming a bus signal that nothing provides, a program input/output count mismatch,
   // a rate that is not a whole number of nanoseconds, or an unknown link; also for a
-  // delay outside 0 .. one period, a reference named as an existing signal other than
+  // delay outside 0 to one period, a reference named as an existing signal other than
   // a command, a signal both a controller and a reference drive, a null controller,
   // and a support on a base that is not floating.
   Simulation(model::Plant& plant, SimulationSpec spec);

@@ -52,7 +52,7 @@
 
 namespace dmbd::sim {
 
-using Complex = std::complex<double>;
+using Complex = std::complex<double>;  // frequency responses (H) and their model values
 
 // ---------------------------------------------------------------------------------
 // Excitation
@@ -66,16 +66,16 @@ using Complex = std::complex<double>;
 // period of f0 keeps a free load from drifting (the first half cycle of an untapered
 // sine is a net impulse); a fade-out lets the record end at rest.
 struct ExponentialChirp {
-  double f0_hz = 1.0;
-  double f1_hz = 200.0;
-  double duration_s = 20.0;
-  double amplitude = 1.0;
-  double fade_in_s = 0.0;
-  double fade_out_s = 0.0;
+  double f0_hz = 1.0;        // f0, the start frequency, Hz
+  double f1_hz = 200.0;      // f1, the end frequency, Hz (> f0)
+  double duration_s = 20.0;  // T, the sweep's length, s
+  double amplitude = 1.0;    // peak of u, in u's unit (A for a current chirp)
+  double fade_in_s = 0.0;    // the raised-cosine fade-in's length, s (0: none)
+  double fade_out_s = 0.0;   // the raised-cosine fade-out's length, s (0: none)
 
   // InputError unless 0 < f0 < f1, duration > 0 and the fades fit in the duration.
   void validate() const;
-  double value(double t_s) const;
+  double value(double t_s) const;         // u(t), t from the sweep's start (0 outside [0, T]); not validated
   double phase_rad(double t_s) const;     // phi(t), t clamped to [0, T]
   double frequency_hz(double t_s) const;  // f(t), t clamped to [0, T]
   double time_at_hz(double f_hz) const;   // inverse of f(t): T ln(f/f0) / ln(f1/f0)
@@ -85,8 +85,9 @@ struct ExponentialChirp {
   std::vector<double> sample(double fs_hz, double lead_in_s = 0.0, double tail_s = 0.0) const;
 };
 
-// The same as free functions (no fades).
+// The same as free functions (no fades): u(t). InputError as validate().
 double exponential_chirp(double f0_hz, double f1_hz, double duration_s, double amplitude, double t_s);
+// f(t), t clamped to [0, T]. InputError as validate().
 double exponential_chirp_frequency_hz(double f0_hz, double f1_hz, double duration_s, double t_s);
 
 // ---------------------------------------------------------------------------------
@@ -102,7 +103,7 @@ struct FrfOptions {
   // Each estimate uses the DFT bins in [f / r, f r], r = 1 + relative_bandwidth / 2,
   // widened to at least min_bins bins (bins are fs / N apart, N the record length).
   double relative_bandwidth = 0.02;
-  int min_bins = 7;
+  int min_bins = 7;     // at least this many bins per estimate (and local_order + 3)
   int local_order = 2;  // 0: plain H1 average over the band; 1, 2: local polynomial in f
   // Mean of the first baseline_s of u and of y subtracted (0: the first sample).
   double baseline_s = 0.0;
@@ -115,8 +116,10 @@ struct FrfOptions {
   double relative_std_floor = 1e-4;
 };
 
+// One output's estimate against the input, one entry per requested frequency in every
+// vector.
 struct FrequencyResponseEstimate {
-  std::vector<double> f_hz;
+  std::vector<double> f_hz;           // the requested frequencies, as given, Hz
   std::vector<Complex> H;             // y/u at f_hz
   std::vector<double> coherence;      // band-averaged magnitude-squared coherence, 0..1
   std::vector<double> bins;           // DFT bins used (roughly independent)
@@ -125,7 +128,9 @@ struct FrequencyResponseEstimate {
 };
 
 // u, y: samples at fs_hz (same length >= 16); f_hz: frequencies within (0, fs/2).
-// InputError otherwise. A band that reaches 0 or fs/2 is clipped.
+// InputError otherwise, for options out of range (relative_bandwidth, baseline_s,
+// tail_average_s, relative_std_floor >= 0, min_bins >= 1, local_order 0..2) and for a
+// record too short for min_bins bins. A band that reaches 0 or fs/2 is clipped.
 FrequencyResponseEstimate estimate_frequency_response(const std::vector<double>& u, const std::vector<double>& y,
                                                       double fs_hz, const std::vector<double>& f_hz,
                                                       const FrfOptions& options = {});
@@ -135,7 +140,8 @@ std::vector<FrequencyResponseEstimate> estimate_frequency_responses(const std::v
                                                                     double fs_hz, const std::vector<double>& f_hz,
                                                                     const FrfOptions& options = {});
 
-// n log-spaced frequencies from lo to hi inclusive.
+// n log-spaced frequencies from lo to hi inclusive (Hz). InputError unless
+// 0 < lo <= hi and n >= 1.
 std::vector<double> log_frequencies(double lo_hz, double hi_hz, int n);
 
 // ---------------------------------------------------------------------------------
@@ -152,12 +158,14 @@ struct RfseaParams {
   double B_l = 2.0e4;   // load damping, N s/m
   double K_l = 0.0;     // load stiffness (gravity through the linkage), N/m
 };
-constexpr int kRfseaNumParams = 8;
+constexpr int kRfseaNumParams = 8;  // how many parameters RfseaParams holds (the arrays' length)
 // Index order of the fit: J_m, B_m, M_r, B_r, K_r, M_l, B_l, K_l.
 enum RfseaParam { kJ_m = 0, kB_m, kM_r, kB_r, kK_r, kM_l, kB_l, kK_l };
+// The parameters in RfseaParam order.
 std::array<double, kRfseaNumParams> to_array(const RfseaParams& p);
+// The inverse of to_array.
 RfseaParams from_array(const std::array<double, kRfseaNumParams>& a);
-const char* rfsea_param_name(int index);  // "J_m", ...
+const char* rfsea_param_name(int index);  // "J_m", ... in RfseaParam order; "?" outside 0..7
 
 // Known constants.
 struct RfseaConstants {
@@ -176,13 +184,21 @@ struct SamplingModel {
   double delay_samples = 0.0;  // extra input delay, samples (e^{-j w ts delay})
 };
 
+// The two tests: the actuator's output locked (X_l = 0: the load does not enter), or
+// free, moving its load (M_l, B_l, K_l).
 enum class RfseaTest { Locked, Free };
 
 // Per ampere: F in N/A, theta_m and q in rad/A (q all zero in the locked test or when
 // N_l == 0).
 struct RfseaResponse {
-  std::vector<Complex> F, theta_m, q;
+  std::vector<Complex> F,  // the elastomer force, N/A, one per frequency
+      theta_m,             // the motor angle, rad/A
+      q;                   // the joint angle, rad/A
 };
+// The model's responses at f_hz (Hz): continuous with sampling.ts_s == 0, else the
+// exact ZOH equivalent; times e^{-j w ts delay_samples}. InputError for a parameter out
+// of range (J_m, M_r, K_r, k_tau, N_m > 0; B_m, B_r, N_l >= 0; free: M_l > 0,
+// B_l, K_l >= 0; all finite) or a sample time < 0 (or not finite).
 RfseaResponse rfsea_response(RfseaTest test, const RfseaParams& p, const RfseaConstants& c,
                              const std::vector<double>& f_hz, const SamplingModel& sampling = {});
 
@@ -191,12 +207,15 @@ RfseaResponse rfsea_response(RfseaTest test, const RfseaParams& p, const RfseaCo
 //   [J'+M_l  J'   ] [a_l]   [B'+B_l  B'    ] [v_l]   [K_l 0  ] [x_l]   [G]
 //   [J'      J'+M_r] [a_r] + [B'      B'+B_r] [v_r] + [0   K_r] [x_r] = [G] i.
 // Locked: states x_r, v_r:  (J'+M_r) a_r + (B'+B_r) v_r + K_r x_r = G i.
+// InputError for parameters out of range, as rfsea_response.
 blocks::StateSpace rfsea_state_space(RfseaTest test, const RfseaParams& p, const RfseaConstants& c);
 
 // Largest chirp amplitude (A) that keeps the steady-state joint swing |q| below
 // q_max_rad over [f0, f1] in the free test: q_max / max |q/I|. (The free load is a
 // mass-damper on a weak spring: |q/I| grows as 1/f below the damper's corner, so a
-// sweep from 0.01 Hz needs a tiny current; see the tests for the numbers.)
+// sweep from 0.01 Hz needs a tiny current; see the tests for the numbers.) The maximum is
+// taken over 400 log-spaced frequencies. InputError unless 0 < f0 <= f1, q_max > 0 and
+// N_l > 0.
 double rfsea_free_test_max_amplitude(const RfseaParams& p, const RfseaConstants& c, double f0_hz, double f1_hz,
                                      double q_max_rad);
 
@@ -207,28 +226,38 @@ double rfsea_free_test_max_amplitude(const RfseaParams& p, const RfseaConstants&
 // ~1/std(log H) (FrequencyResponseEstimate::weight). Empty H: channel not used; empty
 // weight: all 1.
 struct RfseaChannel {
-  std::vector<Complex> H;
-  std::vector<double> weight;
+  std::vector<Complex> H;       // per frequency: F in N/A, theta_m and q in rad/A (finite, non-zero)
+  std::vector<double> weight;   // per frequency, >= 0
 };
+// One test's measured responses (rfsea_test_data makes them from a record).
 struct RfseaTestData {
   std::vector<double> f_hz;  // empty: test not done
-  RfseaChannel F, theta_m, q;
+  RfseaChannel F,            // the elastomer force
+      theta_m,               // the motor angle
+      q;                     // the joint angle (needs RfseaConstants::N_l > 0)
 };
+// Everything identify_rfsea fits to: both tests (at least one) and what is known.
 struct RfseaSysidData {
-  RfseaConstants constants;
+  RfseaConstants constants;  // k_tau, N_m, N_l: not fitted
   SamplingModel sampling;  // set ts_s to the record's sample time
-  RfseaTestData locked, free;
+  // The test with the output locked (needed by rfsea_initial_guess).
+  RfseaTestData locked, free;  // the test with the output free (empty: the load is not fitted)
 };
 
 // Time records of one test (same length, sampled at fs): current (A), force (N), motor
 // angle (rad), joint angle (rad; empty when not measured).
 struct RfseaRecord {
-  std::vector<double> i, F, theta_m, q;
+  std::vector<double> i,  // the motor current, A (the input)
+      F,                  // the elastomer force, N
+      theta_m,            // the motor angle, rad
+      q;                  // the joint angle, rad (empty: not measured)
 };
-// Estimates every channel of a record at f_hz (weights from the estimate).
+// Estimates every channel of a record at f_hz (weights from the estimate). InputError
+// as estimate_frequency_responses (records of different lengths included).
 RfseaTestData rfsea_test_data(const RfseaRecord& record, double fs_hz, const std::vector<double>& f_hz,
                               const FrfOptions& options = {});
 
+// How identify_rfsea fits.
 struct RfseaFitOptions {
   // Start of the fit; default rfsea_initial_guess(data).
   std::optional<RfseaParams> initial;
@@ -236,13 +265,16 @@ struct RfseaFitOptions {
   // defaults to 0, the usual choice when the load has no spring). The load parameters
   // are fixed automatically when there is no free test.
   std::array<bool, kRfseaNumParams> fixed{};
-  RfseaParams fixed_values{};
+  RfseaParams fixed_values{};  // the values of the parameters marked in `fixed`
+  // Residual evaluations allowed over both stages (a Jacobian takes two per free
+  // parameter: central differences).
   int max_evaluations = 4000;
 };
 
+// What identify_rfsea found.
 struct RfseaFit {
-  RfseaParams params;
-  RfseaParams initial;
+  RfseaParams params;   // the identified parameters (the fixed ones at fixed_values)
+  RfseaParams initial;  // where it started (RfseaFitOptions::initial or the guess, fixed ones set)
   // 1-sigma relative standard deviations from the Jacobian at the solution, scaled by
   // the residual (0 for fixed parameters): how well the data determine each one
   // (conservative for M_r by about 1.5x in the tests).
@@ -251,10 +283,10 @@ struct RfseaFit {
   // phase in rad), stacked over tests, channels and frequencies.
   double rms_residual = 0;    // sqrt(sum |r_k|^2 / (2 n))
   double rms_log_error = 0;   // the same without weights: ~ relative error of the fit
-  int iterations = 0;
-  int evaluations = 0;
-  bool converged = false;
-  std::string status;
+  int iterations = 0;         // Levenberg-Marquardt iterations, both stages
+  int evaluations = 0;        // residual evaluations, both stages (Jacobians included)
+  bool converged = false;     // stopped on a tolerance (not on max_evaluations or a failure)
+  std::string status;         // why it stopped, in words ("converged: ...", "stopped: ...", "failed: ...")
 };
 
 // Data-derived starting point, no prior knowledge of the parameters:
@@ -275,7 +307,10 @@ RfseaParams rfsea_initial_guess(const RfseaSysidData& data, const std::array<boo
 // stages: M_r (0.2 % of the moving mass, the weakest parameter) held at its start,
 // then everything free. InputError for inconsistent data, and when the locked test
 // is alone and neither J_m nor M_r (or neither B_m nor B_r) is fixed: they are then
-// not identifiable.
+// not identifiable. Inconsistent: ts_s < 0, a frequency outside (0, 1/(2 ts_s)), a
+// channel whose H or weight does not match f_hz or holds a zero or non-finite value, no
+// test, a q channel with N_l = 0, every parameter fixed, fewer residuals than free
+// parameters, or a free parameter's start not > 0.
 RfseaFit identify_rfsea(const RfseaSysidData& data, const RfseaFitOptions& options = {});
 
 }  // namespace dmbd::sim
