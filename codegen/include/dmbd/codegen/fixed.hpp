@@ -20,19 +20,31 @@ struct FixedTerm {
   int64_t c = 0;      // quantised coefficient (word), when sign == 0
   int qc = 0;         // its fractional bits
 };
+// One statement of the fixed-point program: an accumulation (a Mul and the Macs that
+// follow it on the same slot), a copy or a clamp of the loop program, with its formats.
 struct FixedStatement {
-  enum class Kind { Sum, Copy, Clamp } kind = Kind::Sum;
-  int dst = 0;
+  // Sum: dst = narrow(sum of terms), each term aligned to Q(qacc) in a double-width
+  // accumulator, narrowed once to the dst format (rounding half up, saturating). Copy:
+  // dst = the word of terms[0].a converted to the dst format. Clamp: the word of
+  // terms[0].a clamped to [lo, hi], then converted to the dst format.
+  enum class Kind { Sum, Copy, Clamp } kind = Kind::Sum;  // this statement's kind
+  int dst = 0;                  // the slot written (index into LoopProgram::slots)
   int qacc = 0;                 // accumulator fractional bits (Sum)
   std::vector<FixedTerm> terms; // Sum; Copy/Clamp use terms[0].a
-  int64_t lo = 0, hi = 0;       // Clamp limits in the dst format
-  int block = -1;
-  std::string note;
+  // Clamp: the lower limit, a word in the format of the source slot terms[0].a (clamp
+  // first, then convert: the source may exceed what the dst format holds).
+  int64_t lo = 0, hi = 0;       // Clamp: the upper limit, in the same format
+  int block = -1;               // index into LoopProgram::blocks, as the Op's (-1: a diagram output's copy)
+  std::string note;             // what it computes, the Op::note of its first operation
   bool update = false;          // part of the state update
 };
 
+// A loop program's fixed-point realisation (make_fixed): a signed word of word_bits
+// bits per slot in the Q format q[k] (value = word / 2^q[k]), and the statements that
+// the fixed-point emitters print and FixedInterpreter runs. Indexed like
+// LoopProgram::slots, valid with the program it was made from.
 struct FixedProgram {
-  int word_bits = 32;
+  int word_bits = 32;            // 16 or 32 (make_fixed refuses any other)
   std::vector<int> q;            // fractional bits per slot
   std::vector<double> bound;     // |value| per slot: guaranteed, or simulated where not
   std::vector<bool> simulated;   // the bound of this slot is simulated (2 x the largest
@@ -61,8 +73,13 @@ blocks::StateSpace program_state_space(const LoopProgram& p, const std::vector<i
 // after one check of A^max_samples x (log2(max_samples) products of n x n matrices)
 // that declares +inf at once the ones that will not decay.
 struct ImpulseL1 {
-  blocks::Matrix truncated, infinite;
+  // outputs x inputs: the sum over the first `horizon` samples (zero for horizon <= 0).
+  blocks::Matrix truncated, infinite;  // outputs x inputs: the whole sum (+inf: not decayed)
 };
+// The two L1 norms above of the discrete model ss (its sample time is not used). For a
+// model without states both are |D| (truncated: when horizon >= 1). For an input whose
+// response does not decay, the infinite sum is +inf for every output that has seen a
+// non-zero sample of it or that sees the state that stays (the others keep their sum).
 ImpulseL1 impulse_l1(const blocks::StateSpace& ss, int horizon, int max_samples = 200000);
 
 // Worst-case |fixed - exact| per output (exact: the program in double), for inputs within
@@ -86,26 +103,46 @@ struct ErrorBound {
   int horizon = 0;                   // N, steps from reset
   std::vector<double> over_horizon;  // per output: worst case over the first N steps
   std::vector<double> infinite;      // per output: over any number of steps (+inf: none)
-  std::vector<double> rounding, coefficients;  // the two terms of over_horizon
+  // The two terms of over_horizon, per output: the rounding term (sum over the sources s)
+  std::vector<double> rounding, coefficients;  // and the coefficient term (sum over the inputs i)
   int sources = 0;                   // rounding sources (one impulse response each)
 };
+// The bound above for the program p and its fixed realisation f (make_fixed of p), over
+// `horizon` steps. input_ranges: [lo, hi] per program input, in the inputs' order (the
+// magnitude R_i = max(|lo|, |hi|)); an input without one counts as R_i = 1, and an input
+// with R_i = 0 contributes no coefficient term.
 ErrorBound predicted_error_bound(const LoopProgram& p, const FixedProgram& f,
                                  const std::vector<std::pair<double, double>>& input_ranges, int horizon);
 
+// The fixed-point realisation of p in signed words of word_bits bits (16 or 32): every
+// slot's Q format from its bound (slot_bounds, then q_format), every coefficient other
+// than 0 and +-1 quantised to the finest format its word holds (F_c = word_bits - 2 -
+// floor(log2 |c|), rounded to nearest), and the accumulators' formats by the runtime's
+// headroom rule (G). input_ranges as slot_bounds takes them (default [-1, 1]).
 // Slots without a guaranteed bound (a loop closed through a saturation, an integrator)
 // take a simulated one: twice the largest value seen on the verification chirp and
-// step. InputError when even that diverges.
+// step. InputError when even that diverges, or for word_bits other than 16 or 32.
 FixedProgram make_fixed(const LoopProgram& p, const std::vector<std::pair<double, double>>& input_ranges,
                         int word_bits);
 
-// Runs the integer program; step() takes and returns real values (quantising the inputs
-// and converting the outputs as step_real() of the generated code does).
+// Runs the integer program with the runtime of the generated code, statement for
+// statement, so that it matches the generated fixed-point code bit for bit; step()
+// takes and returns words, step_real() real values (quantising the inputs and
+// converting the outputs as step_real() of the generated code does).
 class FixedInterpreter {
  public:
+  // Keeps references to p and f (make_fixed of p): both must outlive the interpreter.
+  // Every slot starts at 0.
   FixedInterpreter(const LoopProgram& p, const FixedProgram& f);
+  // Every slot (states included), saturations() and clamp_events() to zero.
   void reset();
+  // One sample in real values: u (one per program input) quantised to the inputs'
+  // formats (rounding half up, saturating, a clamp counted), step(), and y (one per
+  // output) the outputs' words converted exactly to double.
   void step_real(const double* u, double* y);
   void step(const int64_t* u, int64_t* y);  // words in each slot's format
+  // Word saturations (results clamped to the word, inputs quantised by step_real()
+  // included) since reset(); sticky at 2^32 - 1, as the generated saturations().
   uint32_t saturations() const { return saturations_; }
   // Saturation blocks that engaged (input word outside the limits) since reset().
   unsigned long long clamp_events() const { return clamp_events_; }

@@ -8,19 +8,27 @@
 
 namespace dmbd::codegen {
 
+// Runs a loop program in the scalar type T: double or float (the generated code's
+// Scalar), one step() per sample period.
 template <class T>
 class Interpreter {
  public:
+  // Keeps a reference to p, which must outlive the interpreter (and not change: the
+  // coefficients are read once, here). Every slot starts at 0.
   explicit Interpreter(const LoopProgram& p) : p_(p), s_(p.slots.size(), T(0)) {
     // Coefficients rounded once to T, as the emitter prints them.
     for (const auto* ops : {&p.output_ops, &p.update_ops})
       for (const Op& o : *ops) coeff_.push_back({static_cast<T>(o.c), static_cast<T>(o.lo), static_cast<T>(o.hi)});
   }
+  // Every slot (states included) and clamp_events() to zero, as the generated reset()
+  // zeroes the states.
   void reset() {
     std::fill(s_.begin(), s_.end(), T(0));
     clamp_events_ = 0;
   }
-  // u: one value per program input; y: one per output.
+  // One sample: u: one value per program input; y: one per output (in the order of
+  // LoopProgram::inputs and outputs). The output operations, then y written, then the
+  // state update.
   void step(const T* u, T* y) {
     for (size_t k = 0; k < p_.inputs.size(); ++k) s_[static_cast<size_t>(p_.inputs[k])] = u[k];
     size_t c = 0;
@@ -28,6 +36,8 @@ class Interpreter {
     for (size_t k = 0; k < p_.outputs.size(); ++k) y[k] = s_[static_cast<size_t>(p_.outputs[k])];
     run(p_.update_ops, c);
   }
+  // Every slot's value after the last step(), indexed like LoopProgram::slots (the
+  // states already advanced to the next step).
   const std::vector<T>& slots() const { return s_; }
   // Saturation blocks that engaged (input outside [lo, hi]) since construction or
   // reset(), counted per operation: the hypothesis of the fixed-point error bound
