@@ -41,8 +41,15 @@ Reduced deflate(Reduced s) {
   return {s.a.bottomRightCorner(m, m), s.a.bottomLeftCorner(m, 1), s.c.tail(m), s.c(0)};
 }
 
-bool feedthrough_is_zero(const Reduced& s) {
-  const double scale = s.b.norm() * s.c.norm() / std::max(s.a.norm(), 1e-300);
+// d against the size of the response c (sI − A)⁻¹ b, |b| |c| / |A|, with |A| the larger of
+// the reduced and the original system's: once deflation has left a reduced A of zero
+// (integrators only), its own |A| would make every d look negligible and lose the zero
+// −b c / d (ss of (s + 4)/(s² + 2s + 10) came out without its zero). A system of
+// integrators only: d counts as zero only when it is.
+bool feedthrough_is_zero(const Reduced& s, double original_a_norm) {
+  const double ref = std::max(s.a.norm(), original_a_norm);
+  if (ref == 0.0) return s.d == 0.0;
+  const double scale = s.b.norm() * s.c.norm() / ref;
   return std::abs(s.d) <= kZeroFeedthrough * scale;
 }
 
@@ -65,7 +72,8 @@ double reading_frequency(const std::vector<Complex>& zeros, const std::vector<Co
 
 std::vector<Complex> deflated_zeros(const StateSpace& sys) {
   Reduced s{sys.a(), sys.b().col(0), sys.c().row(0), sys.d()(0, 0)};
-  while (s.a.rows() > 0 && feedthrough_is_zero(s)) {
+  const double a_norm = sys.a().norm();
+  while (s.a.rows() > 0 && feedthrough_is_zero(s, a_norm)) {
     if (s.b.norm() == 0.0) return {};  // the rest never reaches the output
     s = deflate(std::move(s));
   }

@@ -56,12 +56,6 @@ class PiLoop(unittest.TestCase):
         L = self.d.loop_transfer("plant.out")
         coefficients_close(self, dmbd.tf(L), [2.0, 3.0], [1.0, 3.0, 2.0, 0.0], "loop at plant.out")
 
-    # Known library defect (blocks/src/siso_zeros.cpp, feedthrough_is_zero): the
-    # structural analysis splits L into the integrator factor -(s + 1.5)/s, whose A is 0,
-    # and then takes its feedthrough -1 for zero, losing the zero at -1.5: the phase
-    # margin comes out 15.7 deg instead of 49.8 deg (`dmbd analyze --loop-at plant.out`
-    # says the same). Remove the marker once the library is fixed.
-    @unittest.expectedFailure
     def test_margins_of_the_loop_transfer(self):
         # L = (2 s + 3)/(s (s + 1)(s + 2)): the gain crossover solves
         # |2 jw + 3|^2 = w^2 |(jw + 1)(jw + 2)|^2, i.e. x^3 + 5 x^2 - 9 = 0 with x = w^2.

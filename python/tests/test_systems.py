@@ -50,11 +50,6 @@ class Construction(unittest.TestCase):
         np.testing.assert_allclose(sys(1j), [[1 / ((1j) ** 2 + 3j + 2)]])
         np.testing.assert_allclose(sys.dc_gain(), [[0.5]])
 
-    # Known library defect (blocks/src/siso_zeros.cpp, feedthrough_is_zero): when a
-    # deflation step leaves a state block A = 0, any feedthrough counts as zero, so the
-    # zero at -4 of this realisation is lost (its transfer reads 4.85/(s^2 + 2 s + 10)).
-    # Remove the marker once the library is fixed.
-    @unittest.expectedFailure
     def test_state_space_from_a_transfer_function(self):
         g = dmbd.tf("(s + 4)/(s^2 + 2*s + 10)")
         sys = dmbd.ss(g)

@@ -226,6 +226,25 @@ TEST(Siso, ZerosByDeflationAreZerosOfTheSystemMatrix) {
   EXPECT_NEAR(z3.k(), 1.0 / 6.0, 1e-14);
 }
 
+TEST(Siso, ZerosSurviveADeflationThatLeavesOnlyIntegrators) {
+  // Found from Python (ss of a TF lost its zero; a loop's margins came out 15.7° instead
+  // of 49.8°): when deflation leaves a reduced A of zero, the feedthrough was judged
+  // against |A| = 0 and every d counted as zero. Exact zeros here: −4, −1.5; 1/s none.
+  const StateSpace a = StateSpace::from_tf(tf("(s+4)/(s^2+2*s+10)"));
+  const Zpk za = zpk_by_deflation(a, a.poles());
+  ASSERT_EQ(za.zeros().size(), 1u);
+  EXPECT_NEAR(std::abs(za.zeros()[0] - Complex(-4.0, 0.0)), 0.0, 1e-12);
+  EXPECT_NEAR(za.k(), 0.4, 1e-12);  // G(0) = 4/10
+  const StateSpace pi(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Constant(1, 1, 1.5),
+                      Eigen::MatrixXd::Ones(1, 1));  // (s + 1.5)/s
+  const Zpk zpi = zpk_by_deflation(pi, pi.poles());
+  ASSERT_EQ(zpi.zeros().size(), 1u);
+  EXPECT_NEAR(std::abs(zpi.zeros()[0] - Complex(-1.5, 0.0)), 0.0, 1e-12);
+  const StateSpace integrator(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                              Eigen::MatrixXd::Zero(1, 1));  // 1/s
+  EXPECT_TRUE(zpk_by_deflation(integrator, integrator.poles()).zeros().empty());
+}
+
 TEST(Siso, BigFeedbackLoopIsOneFactor) {
   // A loop of 100 lags 1/(s/10 + 1) closed by -0.5: one strongly connected group of
   // 100 states. T = G/(1 + 0.5 G), G = (1 + s/10)^-100:
