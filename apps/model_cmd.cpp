@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "dmbd/model/draco_files.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/robot_description.hpp"
 
@@ -124,7 +125,7 @@ ModelCommand::ModelCommand(CLI::App& app) : Command(app, "model", "Robot descrip
   cmd_->require_subcommand(1);
   info_ = cmd_->add_subcommand(
       "info", "Summary of a URDF: links, degrees of freedom, joints with limits and axes, mass, height, meshes");
-  info_->add_option("urdf", urdf_, "The URDF file (default: DRACO's, " DMBD_DRACO_DIR "/draco.urdf)");
+  info_->add_option("urdf", urdf_, "The URDF file (default: DRACO's, " + model::draco_dir() + "/draco.urdf)");
   info_->add_flag("--json", json_, "Print one JSON object instead of the table");
   info_->add_option("--package-path", package_paths_,
                     "Folder searched for package://NAME/PATH meshes (as DIR/NAME/PATH, then DIR/PATH); repeatable. "
@@ -137,7 +138,7 @@ int ModelCommand::run() {
   m::UrdfOptions options;
   options.package_paths = package_paths_;
   options.strict = strict_;
-  const std::string path = urdf_.empty() ? std::string(DMBD_DRACO_DIR) + "/draco.urdf" : urdf_;
+  const std::string path = urdf_.empty() ? model::draco_dir() + "/draco.urdf" : urdf_;
   const m::RobotDescription robot = m::load_urdf(path, options);
   const m::ModelSummary summary = m::summarize(robot);
   // Everything is computed before anything is printed: a failure prints no half report.

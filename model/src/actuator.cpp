@@ -14,6 +14,7 @@
 
 #include "dmbd/base/file.hpp"
 #include "dmbd/base/yaml_reader.hpp"
+#include "dmbd/model/draco_files.hpp"
 #include "dmbd/model/error.hpp"
 
 namespace dmbd::model {
@@ -303,7 +304,7 @@ std::vector<ActuatorParams> load_actuators(const std::string& yaml_path, const N
 }
 
 std::vector<ActuatorParams> draco_actuators(const NumberParser& numbers) {
-  return load_actuators(std::string(DMBD_DRACO_DIR) + "/actuators.yaml", numbers);
+  return load_actuators(draco_dir() + "/actuators.yaml", numbers);
 }
 
 }  // namespace dmbd::model

@@ -18,6 +18,7 @@
 #include "dmbd/codegen/fixed.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/model/actuator.hpp"
+#include "dmbd/model/draco_files.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/robot_description.hpp"
 
@@ -26,7 +27,7 @@ namespace dmbd::sim {
 namespace {
 
 model::RobotDescription load_robot(const RobotSetup& r) {
-  const std::string path = r.urdf == "draco" ? std::string(DMBD_DRACO_DIR) + "/draco.urdf" : r.urdf;
+  const std::string path = r.urdf == "draco" ? model::draco_dir() + "/draco.urdf" : r.urdf;
   return model::load_urdf(path);
 }
 

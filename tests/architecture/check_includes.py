@@ -17,6 +17,7 @@ ALLOWED = {
     "wholebody": {"base"},
     "sim": {"base", "blocks", "diagrams", "codegen", "model", "wholebody"},
     "report": {"base", "blocks", "diagrams", "codegen", "model", "sim", "viz"},
+    "python": {"base", "blocks", "diagrams", "codegen", "model", "sim"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]dmbd/([a-z_]+)/')
 SIMBODY = re.compile(r'^\s*#\s*include\s*[<"](Simbody\.h|simbody/|SimTKcommon)')
