@@ -53,6 +53,9 @@ nlohmann::json info_json(const m::RobotDescription& r, const m::ModelSummary& s)
     if (j.velocity > 0) o["velocity"] = j.velocity;
     joints.push_back(o);
   }
+  nlohmann::json repairs = nlohmann::json::array();
+  for (const m::Repair& rp : r.repairs)
+    repairs.push_back({{"link", rp.link}, {"kind", rp.kind}, {"before", rp.before}, {"after", rp.after}, {"what", rp.what}});
   nlohmann::json links = nlohmann::json::array();
   for (const m::Link& l : r.links) links.push_back({{"name", l.name}, {"mass_kg", l.mass_kg}});
   return {{"name", s.name},
@@ -73,6 +76,7 @@ nlohmann::json info_json(const m::RobotDescription& r, const m::ModelSummary& s)
           {"height_m", s.height_m},
           {"meshes_loaded", s.meshes_loaded},
           {"meshes_missing", s.meshes_missing},
+          {"repairs", repairs},
           {"warnings", r.warnings}};
 }
 
@@ -131,7 +135,9 @@ ModelCommand::ModelCommand(CLI::App& app) : Command(app, "model", "Robot descrip
                     "Folder searched for package://NAME/PATH meshes (as DIR/NAME/PATH, then DIR/PATH); repeatable. "
                     "The URDF's folder and its parents are searched after these")
       ->allow_extra_args(false);  // one folder per --package-path: `--package-path DIR file.urdf` works
-  info_->add_flag("--strict", strict_, "A mesh that cannot be found or read is an error (default: a warning)");
+  info_->add_flag("--strict", strict_,
+                  "A mesh that cannot be found or read is an error, and so is an inertia or a mass that would be "
+                  "repaired (default: a warning; docs/model.md, Repairs)");
 }
 
 int ModelCommand::run() {

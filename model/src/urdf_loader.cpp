@@ -26,6 +26,7 @@
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "mesh_loader.hpp"
+#include "urdf_repairs.hpp"
 
 #include <console_bridge/console.h>
 #include <tinyxml.h>
@@ -197,11 +198,14 @@ struct XRobot {
   std::vector<XLink> links;
   std::vector<XJoint> joints;
   std::vector<std::string> warnings;
+  // Links whose inertia breaks the triangle inequality (not strict): the <inertia> line.
+  std::map<std::string, int> unbalanced;
+  std::string world_joint;  // a joint from an undeclared 'world', not kept ("" if none)
 };
 
 class XmlPass {
  public:
-  XmlPass(const Diag& diag, XRobot& out) : d_(diag), r_(out) {}
+  XmlPass(const Diag& diag, bool strict, XRobot& out) : d_(diag), strict_(strict), r_(out) {}
 
   void run(const TiXmlElement* robot) {
     r_.line = robot->Row();
@@ -222,6 +226,7 @@ class XmlPass {
       }
     }
     if (r_.links.empty()) d_.fail(r_.line, "robot '" + r_.name + "': no <link> (expected at least one)");
+    world_joint();
     tree();
     for (const std::string& n : unknown_order_) {
       const auto& u = unknown_.at(n);
@@ -403,7 +408,7 @@ class XmlPass {
       d_.fail(l.line, owner + "a second link of that name (the first is at line " + std::to_string(it->second) + ")");
     link_line_[l.name] = l.line;
     const auto kids = children(e, {"inertial", "visual", "collision"}, owner, {"visual", "collision"});
-    if (kids.count("inertial")) inertial(kids.at("inertial"), owner);
+    if (kids.count("inertial")) inertial(kids.at("inertial"), l.name, owner);
     for (const TiXmlElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
       if (tag(c) == "visual") l.visuals.push_back(shape(c, owner, true));
       if (tag(c) == "collision") l.collisions.push_back(shape(c, owner, false));
@@ -411,7 +416,7 @@ class XmlPass {
     r_.links.push_back(std::move(l));
   }
 
-  void inertial(const TiXmlElement* e, const std::string& owner) {
+  void inertial(const TiXmlElement* e, const std::string& link, const std::string& owner) {
     const auto kids = children(e, {"origin", "mass", "inertia"}, owner);
     origin(kids.count("origin") ? kids.at("origin") : nullptr, owner);
     if (!kids.count("mass")) d_.fail(e->Row(), owner + "<inertial> has no <mass value=\"...\"/> (kg)");
@@ -445,9 +450,12 @@ class XmlPass {
     if (!(ev[0] > 0))
       d_.fail(line, owner + "inertia is not positive definite (principal moments " + moments +
                         "; expected all > 0 for a link with mass " + fmt(mass) + " kg)");
-    if (ev[0] + ev[1] < ev[2] - kTriangleSlack * ev.sum())
+    if (ev[0] + ev[1] >= ev[2] - kTriangleSlack * ev.sum()) return;
+    if (strict_)
       d_.fail(line, owner + "inertia violates the triangle inequality (principal moments " + fmt(ev[0]) + " + " +
-                        fmt(ev[1]) + " < " + fmt(ev[2]) + " kg m^2; expected each <= the sum of the other two)");
+                        fmt(ev[1]) + " < " + fmt(ev[2]) + " kg m^2; expected each <= the sum of the other two; " +
+                        "strict: not repaired by balanceinertia)");
+    r_.unbalanced[link] = line;
   }
 
   void joint(const TiXmlElement* e) {
@@ -531,6 +539,26 @@ class XmlPass {
     r_.joints.push_back(std::move(j));
   }
 
+  // A joint from the undeclared link 'world' (the ROS and Gazebo name of the ground, as
+  // in Simbody's Atlas example) is not kept: its child becomes the root, and the plant's
+  // base mode (floating or fixed) says how the root is held. Fixed and floating only.
+  void world_joint() {
+    if (link_line_.count("world")) return;
+    for (auto it = r_.joints.begin(); it != r_.joints.end(); ++it) {
+      if (it->parent != "world") continue;
+      const std::string owner = "joint '" + it->name + "': ";
+      if (it->type != "fixed" && it->type != "floating")
+        d_.fail(it->line, owner + "a " + it->type + " joint from the undeclared link 'world' (expected fixed or " +
+                              "floating, or a <link name=\"world\"/>)");
+      r_.warnings.push_back(d_.at(it->line) + owner + "attaches link '" + it->child + "' to the undeclared link " +
+                            "'world' (" + it->type + "): the joint and its origin are not kept; '" + it->child +
+                            "' is the root, held as the plant's base mode says (floating or fixed)");
+      r_.world_joint = it->name;
+      r_.joints.erase(it);
+      return;
+    }
+  }
+
   // One root, one parent per link, every link reached from the root.
   void tree() {
     std::map<std::string, const XJoint*> parent_joint;
@@ -598,6 +626,7 @@ class XmlPass {
   }
 
   const Diag& d_;
+  bool strict_;
   XRobot& r_;
   std::map<std::string, int> link_line_, joint_line_;
   std::map<std::string, Eigen::Vector4d> global_colors_;
@@ -783,11 +812,16 @@ RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
   if (std::string(root->Value()) != "robot")
     d.fail(root->Row(), std::string("the top element is <") + root->Value() + ">, expected <robot name=\"...\">");
   XRobot x;
-  XmlPass(d, x).run(root);
+  XmlPass(d, options.strict, x).run(root);
 
   RobotDescription r;
   r.warnings = x.warnings;
-  const urdf::ModelInterfaceSharedPtr model = run_urdfdom(xml, d, x, r.warnings);
+  // urdfdom refuses a parent link that is not declared: it is given a 'world' on the
+  // line of </robot> (no other line moves), and its joint is not converted.
+  std::string for_urdfdom = xml;
+  if (const auto end = for_urdfdom.rfind("</robot>"); !x.world_joint.empty() && end != std::string::npos)
+    for_urdfdom.insert(end, "<link name=\"world\"/>");
+  const urdf::ModelInterfaceSharedPtr model = run_urdfdom(for_urdfdom, d, x, r.warnings);
   r.name = model->getName();
 
   // Depth-first pre-order from the root, children in file order.
@@ -819,6 +853,8 @@ RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
       I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
       l.com_m = X.translation();
       l.inertia_kgm2 = X.linear() * I * X.linear().transpose();
+      if (const auto u = x.unbalanced.find(xl.name); u != x.unbalanced.end())
+        detail::balance_link_inertia(l, d.at(u->second), r);
     }
     auto shapes = [&](const auto& array, const std::vector<XVisual>& xs, std::vector<Shape>& out, bool visual) {
       if (array.size() != xs.size())
@@ -878,6 +914,9 @@ RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
     const auto& ck = kids[xj.child];
     for (auto c = ck.rbegin(); c != ck.rend(); ++c) stack.push_back(*c);
   }
+  std::map<std::string, int> joint_line;
+  for (const XJoint& j : x.joints) joint_line[j.name] = j.line;
+  detail::check_massless_moving(r, [&](const std::string& joint) { return d.at(joint_line[joint]); }, options.strict);
   return r;
 }
 

@@ -167,8 +167,9 @@ TEST_F(ModelCli, MissingMeshesAreWarningsAndStrictMakesThemErrors) {
   const nlohmann::json j = info_json({path});
   EXPECT_EQ(j["meshes_missing"], (nlohmann::json{"package://nowhere_description/meshes/ghost.stl", "garbage.stl"}));
   EXPECT_EQ(j["meshes_loaded"], 1);
-  ASSERT_EQ(j["warnings"].size(), 2u);
+  ASSERT_EQ(j["warnings"].size(), 3u);  // the two meshes, then the massless moving link 'arm'
   EXPECT_NE(j["warnings"][0].get<std::string>().find("ghost.stl' not found"), std::string::npos);
+  EXPECT_EQ(j["repairs"].size(), 1u);
   const Result table = run({"model", "info", path});
   EXPECT_EQ(table.code, 0);
   EXPECT_NE(table.out.find("missing: package://nowhere_description/meshes/ghost.stl"), std::string::npos) << table.out;
@@ -232,6 +233,70 @@ TEST_F(ModelCli, MissingFileAndUsage) {
   const Result extra = run({"model", "info", "a.urdf", "b.urdf"});
   EXPECT_EQ(extra.code, 2);
   EXPECT_EQ(std::count(extra.err.begin(), extra.err.end(), '\n'), 1) << extra.err;
+}
+
+// Repairs (docs/model.md): an inertia breaking the triangle inequality and a moving link
+// without mass load with one warning line each and a `repairs` entry; --strict refuses.
+TEST_F(ModelCli, RepairsAreWarnedListedAndRefusedByStrict) {
+  const fs::path path = dir_ / "bad.urdf";
+  std::ofstream(path) << R"(<robot name="bad">
+  <link name="base">
+    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>
+  </link>
+  <joint name="shoulder" type="revolute">
+    <parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="10" velocity="1"/>
+  </joint>
+  <link name="arm">
+    <inertial><mass value="1"/><inertia ixx="0.001" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.004"/></inertial>
+  </link>
+  <joint name="tilt" type="continuous"><parent link="arm"/><child link="sensor"/><axis xyz="0 1 0"/></joint>
+  <link name="sensor"/>
+</robot>
+)";
+  const std::string p = path.string();
+  const Result text = run({"model", "info", p});
+  EXPECT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("warning: " + p + ":10: link 'arm': inertia violates the triangle inequality " +
+                          "(principal moments 0.001 + 0.002 < 0.004 kg m^2, by 33.3 %): repaired by balanceinertia"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("warning: " + p + ":12: link 'sensor': moved by continuous joint 'tilt'"), std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("mass     2 kg"), std::string::npos) << text.out;
+  const nlohmann::json j = info_json({p});
+  ASSERT_EQ(j["repairs"].size(), 2u);
+  EXPECT_EQ(j["repairs"][0]["link"], "arm");
+  EXPECT_EQ(j["repairs"][0]["kind"], "balanceinertia");
+  ASSERT_EQ(j["repairs"][0]["before"].size(), 3u);
+  EXPECT_NEAR(j["repairs"][0]["before"][2].get<double>(), 0.004, 1e-15);
+  for (const auto& a : j["repairs"][0]["after"]) EXPECT_NEAR(a.get<double>(), 0.007 / 3, 1e-15);
+  EXPECT_EQ(j["repairs"][1]["link"], "sensor");
+  EXPECT_EQ(j["repairs"][1]["kind"], "massless_moving_link");
+  EXPECT_EQ(j["repairs"][1]["before"], (nlohmann::json{0.0}));
+  EXPECT_EQ(j["warnings"].size(), 2u);
+  expect_bad({p, "--strict"}, p + ":10: ", {"link 'arm'", "triangle inequality", "strict"});
+  // DRACO needs no repair.
+  EXPECT_EQ(info_json({draco_urdf()})["repairs"], nlohmann::json::array());
+}
+
+// Simbody's Atlas example as Debian ships it: loads with the head's inertia balanced.
+TEST_F(ModelCli, SimbodysAtlasLoadsWithWarningsAndStrictRefusesIt) {
+  const std::string gz =
+      "/usr/share/doc/simbody/examples/src/TaskSpaceControl-Atlas/models/atlas_v4_free_pelvis.urdf.gz";
+  if (!fs::exists(gz)) GTEST_SKIP() << gz << " is absent (Simbody's examples, Debian's simbody docs)";
+  const std::string p = (dir_ / "atlas_v4_free_pelvis.urdf").string();
+  ASSERT_EQ(std::system(("gzip -dc " + quote(gz) + " > " + quote(p)).c_str()), 0);
+  const Result text = run({"model", "info", p});
+  EXPECT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("link 'head': inertia violates the triangle inequality"), std::string::npos) << text.out;
+  const nlohmann::json j = info_json({p});
+  EXPECT_EQ(j["dof"], 29);
+  EXPECT_NEAR(j["total_mass_kg"].get<double>(), 159.854574, 1e-6);
+  ASSERT_EQ(j["repairs"].size(), 1u);
+  EXPECT_EQ(j["repairs"][0]["link"], "head");
+  expect_bad({p, "--strict"}, p + ":" + std::to_string(line_of(slurp(p), "<inertia ixx=\"0.0036053766\"")) + ": ",
+             {"link 'head'", "triangle inequality"});
 }
 
 }  // namespace

@@ -22,6 +22,7 @@ struct BadFile {
   std::string file;                    // under urdf/bad/
   std::string marker;                  // text on the line the message must name
   std::vector<std::string> fragments;  // further text the message must hold
+  bool strict = false;                 // loaded with UrdfOptions::strict (what is otherwise repaired)
 };
 
 class UrdfBadFile : public testing::TestWithParam<BadFile> {};
@@ -31,7 +32,9 @@ TEST_P(UrdfBadFile, OneLineWithFileLineAndElement) {
   const std::string path = urdf_data("bad/" + c.file);
   const int line = line_of(slurp(path), c.marker);
   ASSERT_GT(line, 0) << "marker not in the fixture: " << c.marker;
-  const std::string msg = expect_model_error([&] { load_urdf(path); }, c.fragments);
+  UrdfOptions o;
+  o.strict = c.strict;
+  const std::string msg = expect_model_error([&] { load_urdf(path, o); }, c.fragments);
   EXPECT_EQ(msg.rfind(path + ":" + std::to_string(line) + ": ", 0), 0u) << msg;
 }
 
@@ -58,7 +61,9 @@ INSTANTIATE_TEST_SUITE_P(
                 {"link 'thigh'", "inertia is not positive definite", "principal moments -0.01, 0.01, 0.03", "expected all > 0"}},
         BadFile{"triangle_inequality.urdf",
                 "<inertia ",
-                {"link 'thigh'", "triangle inequality", "0.01 + 0.01 < 0.05", "expected each <= the sum of the other two"}},
+                {"link 'thigh'", "triangle inequality", "0.01 + 0.01 < 0.05", "expected each <= the sum of the other two",
+                 "strict: not repaired by balanceinertia"},
+                true},
         BadFile{"revolute_without_limit.urdf",
                 "<joint name=\"hip_pitch\"",
                 {"joint 'hip_pitch'", "a revolute joint needs <limit", "type=\"continuous\""}},

@@ -239,7 +239,8 @@ TEST(UrdfMeshes, MissingAndUnreadableMeshesWarnAndStillLoad) {
   EXPECT_EQ(r.meshes_missing,
             (std::vector<std::string>{"package://nowhere_description/meshes/ghost.stl", "garbage.stl"}));
   EXPECT_EQ(r.meshes_loaded, 1u);  // ../mixed/meshes/wedge.obj
-  ASSERT_EQ(r.warnings.size(), 2u);
+  ASSERT_EQ(r.warnings.size(), 3u);  // the two meshes, then the massless moving link 'arm'
+  EXPECT_NE(r.warnings[2].find("link 'arm': moved by continuous joint 'arm'"), std::string::npos) << r.warnings[2];
   const std::string ghost_at = path + ":" + std::to_string(line_of(text, "ghost.stl")) + ": link 'base': ";
   EXPECT_EQ(r.warnings[0].rfind(ghost_at, 0), 0u) << r.warnings[0];
   EXPECT_NE(r.warnings[0].find("'package://nowhere_description/meshes/ghost.stl' not found"), std::string::npos) << r.warnings[0];
@@ -294,7 +295,8 @@ TEST(UrdfMeshes, LoadMeshesOffRecordsUrisOnly) {
   const RobotDescription r = load_urdf(urdf_data("partial/missing_meshes.urdf"), o);
   EXPECT_EQ(r.meshes_loaded, 0u);
   EXPECT_TRUE(r.meshes_missing.empty());
-  EXPECT_TRUE(r.warnings.empty());
+  ASSERT_EQ(r.warnings.size(), 1u);  // no mesh warning; the massless moving link 'arm' only
+  EXPECT_NE(r.warnings[0].find("link 'arm': moved by continuous joint 'arm'"), std::string::npos) << r.warnings[0];
   EXPECT_FALSE(link_named(r, "arm").visuals[1].geometry.mesh);
   EXPECT_EQ(link_named(r, "arm").visuals[1].geometry.mesh_uri, "../mixed/meshes/wedge.obj");
 }

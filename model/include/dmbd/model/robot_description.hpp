@@ -69,6 +69,20 @@ struct Joint {
   double damping = 0, friction = 0;                         // N m s/rad (N s/m); N m (N)
 };
 
+// A physically invalid value of the file that the loader repaired (UrdfOptions::strict
+// refuses it instead). docs/model.md states the rules.
+struct Repair {
+  std::string link;
+  // "balanceinertia": the principal moments broke the triangle inequality; before and
+  //   after are the three principal moments, ascending (kg m^2).
+  // "massless_moving_link": a moving joint's child and every link below it have no
+  //   mass; before and after are the link's mass (kg), kept at 0 (the plant welds the
+  //   joint, which moves nothing).
+  std::string kind;
+  std::vector<double> before, after;
+  std::string what;  // what was wrong, one line
+};
+
 struct RobotDescription {
   std::string name;
   std::string source;                 // the URDF file read ("" for a string)
@@ -76,7 +90,8 @@ struct RobotDescription {
   std::vector<Joint> joints;          // parent before child (topological order)
   std::vector<std::string> meshes_missing;  // URIs that could not be found or read
   std::size_t meshes_loaded = 0;
-  std::vector<std::string> warnings;  // one line each: unknown tags, missing meshes...
+  std::vector<std::string> warnings;  // one line each: unknown tags, missing meshes, repairs...
+  std::vector<Repair> repairs;        // each has its line in warnings too
 
   // Index of a link/joint by name, or -1.
   int link_index(const std::string& name) const;
@@ -90,14 +105,17 @@ struct UrdfOptions {
   // Folders searched for package://NAME/rest: <dir>/NAME/rest, then <dir>/rest.
   // The URDF's own folder and its parents are always tried after these.
   std::vector<std::string> package_paths;
-  bool strict = false;                // a mesh that cannot be found/read is an error
+  // A mesh that cannot be found/read is an error, and so is what would be repaired
+  // (an inertia breaking the triangle inequality, a moving joint that moves no mass).
+  bool strict = false;
   bool load_meshes = true;            // false: record URIs only (fast)
 };
 
 // Reads a URDF file. Throws dmbd::model::ModelError with a one-line message naming
 // the file, the line and the element ("draco.urdf:42: link 'thigh': inertia is not
 // positive definite") for malformed XML, a missing file, a loop or a second parent
-// in the tree, a NaN/inf number, a negative mass or a non-positive-definite inertia.
+// in the tree, a NaN/inf number, a negative mass or a non-positive-definite inertia; with
+// options.strict also for what is otherwise repaired with a warning (see Repair).
 RobotDescription load_urdf(const std::string& path, const UrdfOptions& options = {});
 // Same from text; `base_dir` resolves relative mesh paths, `label` names it in errors.
 RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
