@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <sstream>
+
+#include "dmbd/base/number_text.hpp"
 
 namespace dmbd::yaml {
 
@@ -15,13 +16,6 @@ std::string join(const std::vector<std::string>& names) {
   std::string s;
   for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
   return s;
-}
-
-std::string shortest(double v) {
-  std::ostringstream o;
-  o.precision(6);
-  o << v;
-  return o.str();
 }
 
 }  // namespace
@@ -95,7 +89,7 @@ double Reader::number(const YAML::Node& n, const std::string& what) {
 
 double Reader::positive(const YAML::Node& n, const std::string& what) {
   const double v = number(n, what);
-  if (!(v > 0)) fail(n, what + ": expected a positive number, got " + shortest(v));
+  if (!(v > 0)) fail(n, what + ": expected a positive number, got " + number_text(v));
   return v;
 }
 
@@ -103,7 +97,7 @@ double Reader::number_in(const YAML::Node& n, const std::string& what, double lo
   const double v = number(n, what);
   const std::string u = unit.empty() ? std::string() : " " + unit;
   if (!(v >= lo && v <= hi))
-    fail(n, what + ": expected a number from " + shortest(lo) + " to " + shortest(hi) + u + ", got " + shortest(v) + u);
+    fail(n, what + ": expected a number from " + number_text(lo) + " to " + number_text(hi) + u + ", got " + number_text(v) + u);
   return v;
 }
 

@@ -8,11 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "dmbd/base/file.hpp"
+#include "dmbd/base/number_text.hpp"
 #include "dmbd/base/yaml_reader.hpp"
 #include "dmbd/model/draco_files.hpp"
 #include "dmbd/model/error.hpp"
@@ -110,13 +110,6 @@ double LinkageTable::N_l(double q) const {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(6);
-  o << v;
-  return o.str();
-}
-
 std::string join(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
@@ -182,7 +175,7 @@ class Reader {
       const double got = rd_.number(n, ctx + ": '" + key + "'" + u);
       if (const std::string why = violation(check, got); !why.empty())
         fail(n, ctx + ": '" + key + "' must be " + why + (check == Check::Positive || check == Check::NonNegative ? u : "") +
-                    ", got " + num(got));
+                    ", got " + number_text(got));
       v = got;
     });
     return v;

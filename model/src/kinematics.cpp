@@ -46,6 +46,17 @@ Eigen::Vector3d center_of_mass(const RobotDescription& robot, const std::vector<
   return m > 0 ? Eigen::Vector3d(h / m) : Eigen::Vector3d::Zero();
 }
 
+// Joints are parent before child: children accumulate into parents in reverse order.
+std::vector<double> subtree_masses(const RobotDescription& r) {
+  std::vector<double> m(r.links.size());
+  for (std::size_t l = 0; l < r.links.size(); ++l) m[l] = r.links[l].mass_kg;
+  for (auto it = r.joints.rbegin(); it != r.joints.rend(); ++it) {
+    const int p = r.link_index(it->parent), c = r.link_index(it->child);
+    if (p >= 0 && c >= 0) m[static_cast<std::size_t>(p)] += m[static_cast<std::size_t>(c)];
+  }
+  return m;
+}
+
 double subtree_axis_inertia(const RobotDescription& robot, int joint) {
   const auto X = default_pose_link_frames(robot);
   const Joint& J = robot.joints.at(static_cast<std::size_t>(joint));

@@ -27,18 +27,6 @@ namespace {
 
 bool has_dofs(JointType t) { return t != JointType::Fixed; }
 
-// Total mass of the subtree rooted at each link.
-std::vector<double> subtree_mass(const RobotDescription& r) {
-  std::vector<double> m(r.links.size());
-  for (std::size_t l = 0; l < r.links.size(); ++l) m[l] = r.links[l].mass_kg;
-  // Joints are parent-before-child: accumulate children into parents in reverse.
-  for (auto it = r.joints.rbegin(); it != r.joints.rend(); ++it) {
-    const int p = r.link_index(it->parent), c = r.link_index(it->child);
-    if (p >= 0 && c >= 0) m[static_cast<std::size_t>(p)] += m[static_cast<std::size_t>(c)];
-  }
-  return m;
-}
-
 SimTK::Body::Rigid make_body(const Link& l, double taken) {
   const double m = l.mass_kg;
   if (m <= 0) return SimTK::Body::Rigid(SimTK::MassProperties(0, SimTK::Vec3(0), SimTK::Inertia(0)));
@@ -68,7 +56,7 @@ Tree build_tree(const RobotDescription& robot, SimTK::SimbodyMatterSubsystem& ma
   t.link_mass.assign(nl, 0.0);
   auto taken = [&](std::size_t l) { return l < mass_taken.size() ? mass_taken[l] : 0.0; };
   for (std::size_t l = 0; l < nl; ++l) t.link_mass[l] = robot.links[l].mass_kg - taken(l);
-  const std::vector<double> sub = subtree_mass(robot);
+  const std::vector<double> sub = subtree_masses(robot);
 
   SimTK::MobilizedBody& ground = matter.updGround();
   if (base == BaseMode::Floating) {

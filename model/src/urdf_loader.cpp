@@ -22,6 +22,7 @@
 // scale) is read once and shared. meshes_loaded counts the distinct URIs read,
 // meshes_missing lists the distinct URIs that could not be found or read.
 #include "dmbd/base/file.hpp"
+#include "dmbd/base/number_text.hpp"
 #include "dmbd/base/text.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/robot_description.hpp"
@@ -46,7 +47,6 @@
 #include <mutex>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <system_error>
 #include <tuple>
 
@@ -60,13 +60,6 @@ namespace fs = std::filesystem;
 // significant digits, so a flat plate (I_zz = I_xx + I_yy exactly) can come out
 // up to ~1e-6 of the trace on the wrong side.
 constexpr double kTriangleSlack = 1e-6;
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
 
 // File, line and element in every message: "FILE:LINE: link 'thigh': ...".
 class Diag {
@@ -427,14 +420,14 @@ class XmlPass {
     children(m, {}, owner);
     children(in, {}, owner);
     const double mass = number(m, "value", owner, true);
-    if (mass < 0) d_.fail(m->Row(), owner + "mass " + fmt(mass) + " kg is negative (expected >= 0)");
+    if (mass < 0) d_.fail(m->Row(), owner + "mass " + number_text(mass) + " kg is negative (expected >= 0)");
     const char* names[6] = {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"};
     double v[6];
     for (int k = 0; k < 6; ++k) v[k] = number(in, names[k], owner, true);
     Eigen::Matrix3d I;
     I << v[0], v[1], v[2], v[1], v[3], v[4], v[2], v[4], v[5];
     const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
-    const std::string moments = fmt(ev[0]) + ", " + fmt(ev[1]) + ", " + fmt(ev[2]) + " kg m^2";
+    const std::string moments = number_text(ev[0]) + ", " + number_text(ev[1]) + ", " + number_text(ev[2]) + " kg m^2";
     const int line = in->Row();
     if (mass == 0) {
       if (I.isZero(0)) return;
@@ -449,11 +442,11 @@ class XmlPass {
     }
     if (!(ev[0] > 0))
       d_.fail(line, owner + "inertia is not positive definite (principal moments " + moments +
-                        "; expected all > 0 for a link with mass " + fmt(mass) + " kg)");
+                        "; expected all > 0 for a link with mass " + number_text(mass) + " kg)");
     if (ev[0] + ev[1] >= ev[2] - kTriangleSlack * ev.sum()) return;
     if (strict_)
-      d_.fail(line, owner + "inertia violates the triangle inequality (principal moments " + fmt(ev[0]) + " + " +
-                        fmt(ev[1]) + " < " + fmt(ev[2]) + " kg m^2; expected each <= the sum of the other two; " +
+      d_.fail(line, owner + "inertia violates the triangle inequality (principal moments " + number_text(ev[0]) + " + " +
+                        number_text(ev[1]) + " < " + number_text(ev[2]) + " kg m^2; expected each <= the sum of the other two; " +
                         "strict: not repaired by balanceinertia)");
     r_.unbalanced[link] = line;
   }
@@ -500,7 +493,7 @@ class XmlPass {
       non_negative(l, "effort", owner, true, angular ? "N m" : "N");
       non_negative(l, "velocity", owner, true, angular ? "rad/s" : "m/s");
       if (needs_limit && lo > hi)
-        d_.fail(l->Row(), owner + "<limit lower=\"" + fmt(lo) + "\" upper=\"" + fmt(hi) + "\">: lower is above upper");
+        d_.fail(l->Row(), owner + "<limit lower=\"" + number_text(lo) + "\" upper=\"" + number_text(hi) + "\">: lower is above upper");
     } else if (needs_limit) {
       d_.fail(j.line, owner + "a " + j.type +
                           " joint needs <limit lower=\"..\" upper=\"..\" effort=\"..\" velocity=\"..\"/>" +

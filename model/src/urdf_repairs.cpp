@@ -1,23 +1,16 @@
 // Repairs of a loaded URDF: balanceinertia and moving joints without mass.
 #include "urdf_repairs.hpp"
 
+#include "dmbd/base/number_text.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/inertia_repair.hpp"
 
 #include <cmath>
-#include <sstream>
 #include <vector>
 
 namespace dmbd::model::detail {
 
 namespace {
-
-std::string g6(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
 
 const char* type_word(JointType t) {
   switch (t) {
@@ -29,17 +22,6 @@ const char* type_word(JointType t) {
     case JointType::Planar: return "planar";
   }
   return "?";
-}
-
-// Mass of each link plus every link below it (joints are parent before child).
-std::vector<double> subtree_masses(const RobotDescription& r) {
-  std::vector<double> m(r.links.size());
-  for (std::size_t l = 0; l < r.links.size(); ++l) m[l] = r.links[l].mass_kg;
-  for (auto it = r.joints.rbegin(); it != r.joints.rend(); ++it) {
-    const int p = r.link_index(it->parent), c = r.link_index(it->child);
-    if (p >= 0 && c >= 0) m[static_cast<std::size_t>(p)] += m[static_cast<std::size_t>(c)];
-  }
-  return m;
 }
 
 }  // namespace
@@ -54,10 +36,10 @@ void balance_link_inertia(Link& link, const std::string& where, RobotDescription
   rp.kind = "balanceinertia";
   rp.before = {before[0], before[1], before[2]};
   rp.after = {after[0], after[1], after[2]};
-  rp.what = "inertia violates the triangle inequality (principal moments " + g6(before[0]) + " + " + g6(before[1]) +
-            " < " + g6(before[2]) + " kg m^2, by " + g6(std::round(pct * 10) / 10) + " %)";
+  rp.what = "inertia violates the triangle inequality (principal moments " + number_text(before[0]) + " + " + number_text(before[1]) +
+            " < " + number_text(before[2]) + " kg m^2, by " + number_text(std::round(pct * 10) / 10) + " %)";
   robot.warnings.push_back(where + "link '" + link.name + "': " + rp.what +
-                           ": repaired by balanceinertia (principal moments set to their mean, " + g6(after[2]) +
+                           ": repaired by balanceinertia (principal moments set to their mean, " + number_text(after[2]) +
                            " kg m^2; MuJoCo's rule; --strict refuses)");
   robot.repairs.push_back(std::move(rp));
 }

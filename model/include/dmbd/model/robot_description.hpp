@@ -138,6 +138,9 @@ Eigen::Vector3d center_of_mass(const RobotDescription& robot, const std::vector<
 // change it; joints below are taken at zero (welded joints where they were welded).
 double subtree_axis_inertia(const RobotDescription& robot, int joint);
 
+// Mass of each link plus every link below it (kg), indexed as robot.links.
+std::vector<double> subtree_masses(const RobotDescription& robot);
+
 // The same robot with a rigid mass bolted to `link`: mass_kg at com_L (link frame) with
 // principal moments inertia_kgm2 about axes parallel to the link frame's; the link's
 // mass, centre of mass and inertia become those of the union. Throws ModelError for an
