@@ -9,6 +9,7 @@
 #include <functional>
 #include <vector>
 
+#include "dmbd/base/number_text.hpp"
 #include "dmbd/blocks/error.hpp"
 
 namespace dmbd::blocks {
@@ -267,6 +268,7 @@ Rational constant(double v) { return {Polynomial::constant(v), Polynomial::const
 struct Evaluator {
   const ParameterMap& params;
   char variable;  // 's', 'z', or 0 for a plain number
+  bool allow_delay = false;  // exp(-s*T) becomes a delay factor (Rational::delay_s)
 
   [[noreturn]] static void fail(const std::string& msg, int column) { throw ExpressionError(msg, column); }
 
@@ -284,19 +286,35 @@ struct Evaluator {
     return a * b;
   }
 
+  // A delay is a factor of the whole expression: the terms of a sum share it (a zero
+  // term has none to share).
+  static double shared_delay(const Rational& a, const Rational& b, int column) {
+    if (a.num.is_zero()) return b.delay_s;
+    if (b.num.is_zero() || a.delay_s == b.delay_s) return a.delay_s;
+    fail("terms with different delays (exp(-s*" + number_text(a.delay_s) + ") and exp(-s*" + number_text(b.delay_s) +
+             ")) are added: a delay must be a factor of the whole expression",
+         column);
+  }
   Rational add(const Rational& a, const Rational& b, double sign, int column) const {
-    if (is_constant(a) && is_constant(b)) return constant(constant_value(a) + sign * constant_value(b));
-    if (a.den == b.den) return {a.num + sign * b.num, a.den};
-    return {times(a.num, b.den, column) + sign * times(b.num, a.den, column), times(a.den, b.den, column)};
+    const double delay = shared_delay(a, b, column);
+    if (is_constant(a) && is_constant(b)) return delayed(constant(constant_value(a) + sign * constant_value(b)), delay);
+    if (a.den == b.den) return {a.num + sign * b.num, a.den, delay};
+    return {times(a.num, b.den, column) + sign * times(b.num, a.den, column), times(a.den, b.den, column), delay};
   }
   Rational mul(const Rational& a, const Rational& b, int column) const {
-    if (is_constant(a) && is_constant(b)) return constant(constant_value(a) * constant_value(b));
-    return {times(a.num, b.num, column), times(a.den, b.den, column)};
+    const double delay = a.delay_s + b.delay_s;
+    if (is_constant(a) && is_constant(b)) return delayed(constant(constant_value(a) * constant_value(b)), delay);
+    return {times(a.num, b.num, column), times(a.den, b.den, column), delay};
   }
   Rational div(const Rational& a, const Rational& b, int column) const {
     if (b.num.is_zero()) fail("division by zero", column);
-    if (is_constant(a) && is_constant(b)) return constant(constant_value(a) / constant_value(b));
-    return {times(a.num, b.den, column), times(a.den, b.num, column)};
+    const double delay = a.delay_s - b.delay_s;
+    if (is_constant(a) && is_constant(b)) return delayed(constant(constant_value(a) / constant_value(b)), delay);
+    return {times(a.num, b.den, column), times(a.den, b.num, column), delay};
+  }
+  static Rational delayed(Rational r, double delay_s) {
+    r.delay_s = delay_s;
+    return r;
   }
 
   Rational eval(const Node& n) const {
@@ -307,7 +325,7 @@ struct Evaluator {
         return name(n);
       case Node::Kind::Negate: {
         Rational r = eval(*n.args[0]);
-        return {-r.num, r.den};
+        return {-r.num, r.den, r.delay_s};
       }
       case Node::Kind::Sum:
       case Node::Kind::Product:
@@ -359,6 +377,16 @@ struct Evaluator {
     const Rational ex = eval(*n.args[1]);
     if (!is_constant(ex)) fail("the exponent must not contain " + std::string(1, variable), n.args[1]->column);
     const double e = constant_value(ex);
+    if (base.delay_s != 0.0) {
+      if (e != std::round(e) || std::abs(e) > 64) fail("a power of a delay needs an integer exponent", n.args[1]->column);
+      Rational r = base;
+      r.delay_s = 0.0;
+      return delayed(power_of(r, e, n), base.delay_s * e);
+    }
+    return power_of(base, e, n);
+  }
+
+  Rational power_of(const Rational& base, double e, const Node& n) const {
     if (is_constant(base)) {
       const double v = std::pow(constant_value(base), e);
       if (!std::isfinite(v)) fail("power is not a finite real number", n.column);
@@ -374,10 +402,36 @@ struct Evaluator {
     return {base.den.pow(-k), base.num.pow(-k)};
   }
 
+  // exp(-s*T): the delay e^{-sT} (T >= 0 seconds), with a gain e^c for exp(c - s*T).
+  // The argument is always in s: in a discrete expression the caller turns T into
+  // whole samples of z^-1.
+  Rational delay(const Node& n) const {
+    const Node& arg = *n.args[0];
+    const Rational r = Evaluator{params, 's', false}.eval(arg);
+    if (r.den.degree() != 0 || r.num.degree() != 1)
+      fail("exp() of an expression in s must be a delay exp(-s*T) (linear in s), not " + arg_text(r), arg.column);
+    const double t = -r.num[1] / r.den[0], c = r.num[0] / r.den[0];
+    if (!(t >= 0.0)) fail("exp(-s*T) needs a delay T >= 0 s (exp(+s*T) is a prediction): T = " + number_text(t), arg.column);
+    if (!allow_delay)
+      fail("a delay exp(-s*T) is not allowed here (in a diagram, use a delay block)", n.column);
+    return delayed(constant(std::exp(c)), t);
+  }
+  static std::string arg_text(const Rational& r) {
+    return "a rational function of degree " + std::to_string(std::max(r.num.degree(), r.den.degree()));
+  }
+  static bool mentions_s(const Node& n) {
+    if (n.kind == Node::Kind::Name && n.name == "s") return true;
+    for (const auto& a : n.args)
+      if (mentions_s(*a)) return true;
+    return false;
+  }
+
   Rational call(const Node& n) const {
+    if (n.name == "exp" && n.args.size() == 1 && mentions_s(*n.args[0])) return delay(n);
     std::vector<double> a;
     for (const auto& arg : n.args) {
       const Rational r = eval(*arg);
+      if (r.delay_s != 0.0) fail(quote(n.name) + " of a delay", arg->column);
       if (!is_constant(r))
         fail(quote(n.name) + " takes numbers only, not an expression in " + std::string(1, variable), arg->column);
       a.push_back(constant_value(r));
@@ -416,17 +470,23 @@ struct Evaluator {
   }
 };
 
-void collect(const Node& n, std::set<std::string>& out, bool& s, bool& z) {
+// Parameters, and whether s (outside a delay exp(-s*T)), z and a delay appear.
+struct Uses {
+  bool s = false, z = false, delay = false;
+};
+
+void collect(const Node& n, std::set<std::string>& out, Uses& u, bool in_exp = false) {
+  if (n.kind == Node::Kind::Call && n.name == "exp") in_exp = true;
   if (n.kind == Node::Kind::Name) {
     if (n.name == "s") {
-      s = true;
+      (in_exp ? u.delay : u.s) = true;
     } else if (n.name == "z") {
-      z = true;
+      u.z = true;
     } else if (n.name != "pi" && n.name != "e") {
       out.insert(n.name);
     }
   }
-  for (const auto& a : n.args) collect(*a, out, s, z);
+  for (const auto& a : n.args) collect(*a, out, u, in_exp);
 }
 
 }  // namespace
@@ -440,16 +500,23 @@ Expression Expression::parse(std::string_view text) {
 
 std::set<std::string> Expression::parameters() const {
   std::set<std::string> out;
-  bool s = false, z = false;
-  if (root_) collect(*root_, out, s, z);
+  Uses u;
+  if (root_) collect(*root_, out, u);
   return out;
 }
 
 bool Expression::uses(char variable) const {
   std::set<std::string> out;
-  bool s = false, z = false;
-  if (root_) collect(*root_, out, s, z);
-  return variable == 's' ? s : variable == 'z' ? z : false;
+  Uses u;
+  if (root_) collect(*root_, out, u);
+  return variable == 's' ? u.s : variable == 'z' ? u.z : false;
+}
+
+bool Expression::has_delay() const {
+  std::set<std::string> out;
+  Uses u;
+  if (root_) collect(*root_, out, u);
+  return u.delay;
 }
 
 double Expression::evaluate(const ParameterMap& params) const {
@@ -457,10 +524,15 @@ double Expression::evaluate(const ParameterMap& params) const {
   return r.num[0] / r.den[0];
 }
 
-Rational Expression::evaluate_rational(const ParameterMap& params, char variable) const {
+Rational Expression::evaluate_rational(const ParameterMap& params, char variable, bool allow_delay) const {
   if (variable != 's' && variable != 'z') throw InputError("the variable of a rational expression is s or z");
-  Rational r = Evaluator{params, variable}.eval(*root_);
+  Rational r = Evaluator{params, variable, allow_delay}.eval(*root_);
   if (r.den.is_zero()) throw ExpressionError("the denominator is zero", 1);
+  if (r.delay_s < 0.0)
+    throw ExpressionError("the expression is a prediction exp(+s*" + number_text(-r.delay_s) +
+                              "): a delay in a denominator must be cancelled by one in the numerator",
+                          1);
+  if (r.num.is_zero()) r.delay_s = 0.0;
   return r;
 }
 

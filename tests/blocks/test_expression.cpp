@@ -289,7 +289,7 @@ INSTANTIATE_TEST_SUITE_P(
         EvalCase{"wc*s", 's', 1, "unknown parameter 'wc'"}, EvalCase{"1/((s/wc)^2 + 1)", 's', 7, "'wc'"},
         EvalCase{"k + wc", 0, 5, "unknown parameter 'wc'"},
         // A function of s: column of the argument.
-        EvalCase{"sqrt(s)", 's', 6, "numbers only"}, EvalCase{"1 + exp(2*s)", 's', 9, "numbers only", 11},
+        EvalCase{"sqrt(s)", 's', 6, "numbers only"}, EvalCase{"1 + exp(2*s)", 's', 9, "prediction", 11},
         // Division by zero: column of the '/'.
         EvalCase{"1/0", 0, 2, "division by zero"}, EvalCase{"s/(k-2)", 's', 2, "division by zero"},
         EvalCase{"1/(s-s)", 's', 2, "division by zero"},
@@ -412,6 +412,55 @@ TEST(ExpressionLimits, DegreeAboveTheLimitIsLocated) {
 TEST(ExpressionLimits, TransferFunctionParseReportsTheLimits) {
   EXPECT_THROW((void)TransferFunction::parse(repeat("(", 15000) + "s" + repeat(")", 15000)), InputError);
   EXPECT_THROW((void)TransferFunction::parse("1/(s" + repeat("+1", 20000) + ")"), InputError);
+}
+
+
+// exp(-s*T): a dead time, kept apart from the rational part (Rational::delay_s).
+TEST(ExpressionDelay, FactorsAddUpAndTheRationalPartIsKept) {
+  const Expression e = Expression::parse("k*exp(-s*T)/(s+1) * exp(-0.5*s*T)");
+  EXPECT_TRUE(e.has_delay());
+  EXPECT_TRUE(e.uses('s'));
+  const Rational r = e.evaluate_rational({{"k", 3.0}, {"T", 0.002}}, 's', true);
+  EXPECT_NEAR(r.delay_s, 0.003, 1e-18);  // 0.002 + 0.001, one addition
+  EXPECT_EQ(r.num.degree(), 0);
+  EXPECT_EQ(r.den.degree(), 1);
+  EXPECT_DOUBLE_EQ(r.num[0] / r.den[0], 3.0);
+  // A delay divided by another, a power, a gain exp(c - sT), and in a z expression.
+  EXPECT_NEAR(Expression::parse("exp(-3*s)/exp(-s)").evaluate_rational({}, 's', true).delay_s, 2.0, 0.0);
+  EXPECT_NEAR(Expression::parse("exp(-s*0.1)^3").evaluate_rational({}, 's', true).delay_s, 0.3, 1e-16);
+  const Rational g = Expression::parse("exp(2 - s)").evaluate_rational({}, 's', true);
+  EXPECT_DOUBLE_EQ(g.num[0] / g.den[0], std::exp(2.0));
+  EXPECT_EQ(g.delay_s, 1.0);
+  const Expression zd = Expression::parse("exp(-s*0.003)/(z - 0.5)");
+  EXPECT_FALSE(zd.uses('s'));
+  EXPECT_TRUE(zd.uses('z'));
+  EXPECT_EQ(zd.evaluate_rational({}, 'z', true).delay_s, 0.003);
+  // The same terms' delay factors out of a sum.
+  EXPECT_EQ(Expression::parse("exp(-s)/(s+1) + exp(-s)/(s+2)").evaluate_rational({}, 's', true).delay_s, 1.0);
+}
+
+TEST(ExpressionDelay, WhatIsNotADelayIsAnErrorAtItsColumn) {
+  struct Case {
+    const char* text;
+    bool allow;
+    int column;
+    const char* mention;
+  };
+  const Case cases[] = {
+      {"exp(-s*0.1)/(s+1)", false, 1, "not allowed here"},
+      {"1 + exp(-s*0.1)", true, 3, "different delays"},
+      {"exp(-s^2)", true, 5, "linear in s"},
+      {"exp(s*0.1)", true, 5, "prediction"},
+      {"1/exp(-s*0.1)", true, 1, "prediction"},
+      {"sqrt(exp(-s))", true, 6, "of a delay"},
+      {"exp(-s)^0.5", true, 9, "integer exponent"},
+  };
+  for (const Case& c : cases) {
+    const Caught e = catch_expression_error([&] { (void)Expression::parse(c.text).evaluate_rational({}, 's', c.allow); });
+    ASSERT_TRUE(e.thrown) << c.text;
+    EXPECT_EQ(e.column, c.column) << c.text << ": " << e.message;
+    EXPECT_TRUE(mentions(e.message, c.mention)) << c.text;
+  }
 }
 
 }  // namespace

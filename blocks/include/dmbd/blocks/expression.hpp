@@ -34,6 +34,9 @@ struct Rational {
   // The numerator, ascending powers of x, as the arithmetic left it (not normalised: no
   // monic denominator, no common factor cancelled; TransferFunction normalises).
   Polynomial num, den;  // the denominator, ascending powers; never zero after evaluate_rational
+  // A dead time: the function is e^{-s delay_s} num/den (seconds, >= 0). Only
+  // evaluate_rational with allow_delay sets it, from factors exp(-s*T).
+  double delay_s = 0.0;
 };
 
 // A parsed rational expression (grammar above): parse once, evaluate at any parameter
@@ -56,8 +59,10 @@ class Expression {
   const std::string& text() const { return text_; }
   // Parameter names the expression refers to (not functions, constants, s or z).
   std::set<std::string> parameters() const;
-  // True when the variable (`s` or `z`) appears.
+  // True when the variable (`s` or `z`) appears (s inside exp(), a delay, not counted).
   bool uses(char variable) const;
+  // True when exp() of an expression in s (a delay exp(-s*T)) appears.
+  bool has_delay() const;
 
   // Evaluate to a number; the expression must not contain s or z. Throws
   // ExpressionError naming the column of an unknown parameter, a misuse of s/z,
@@ -67,7 +72,12 @@ class Expression {
   // letter is an error. Powers of non-constant bases need integer exponents. Throws
   // ExpressionError as evaluate() does, and for a degree above kMaxDegree or a zero
   // denominator; InputError when `variable` is neither 's' nor 'z'.
-  Rational evaluate_rational(const ParameterMap& params, char variable) const;
+  // With allow_delay, exp(-s*T) (T >= 0, constant; also exp(c - s*T)) is a delay factor,
+  // in a discrete expression too (where z = e^{s ts}): the delays of the factors add
+  // up in Rational::delay_s. A sum of terms with different delays, a delay inside
+  // another function, and a net prediction (a delay left in the denominator) are
+  // ExpressionErrors. Without allow_delay, exp() of an expression in s is one.
+  Rational evaluate_rational(const ParameterMap& params, char variable, bool allow_delay = false) const;
 
  private:
   std::string text_;
