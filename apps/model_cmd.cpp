@@ -138,9 +138,11 @@ ModelCommand::ModelCommand(CLI::App& app) : Command(app, "model", "Robot descrip
   info_->add_flag("--strict", strict_,
                   "A mesh that cannot be found or read is an error, and so is an inertia or a mass that would be "
                   "repaired (default: a warning; docs/model.md, Repairs)");
+  workspace_ = std::make_unique<ModelWorkspace>(*cmd_);
 }
 
 int ModelCommand::run() {
+  if (workspace_->selected()) return workspace_->run();
   m::UrdfOptions options;
   options.package_paths = package_paths_;
   options.strict = strict_;

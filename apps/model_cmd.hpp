@@ -4,10 +4,13 @@
 // prints a summary of a URDF (DRACO's when no file is given): links, degrees of
 // freedom, joint counts, mass, height, meshes, every joint with its type, limits and
 // axis, and the loader's warnings.
+//   dmbd model workspace ... (model_workspace_cmd.hpp)
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "command.hpp"
+#include "model_workspace_cmd.hpp"
 
 namespace dmbd::apps {
 
@@ -23,6 +26,7 @@ class ModelCommand : public Command {
   std::vector<std::string> package_paths_;
   bool json_ = false;
   bool strict_ = false;
+  std::unique_ptr<ModelWorkspace> workspace_;
 };
 
 }  // namespace dmbd::apps
