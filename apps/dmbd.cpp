@@ -18,6 +18,7 @@
 #include "model_cmd.hpp"
 #include "report_cmd.hpp"
 #include "simulate_cmd.hpp"
+#include "sweep_cmd.hpp"
 #include "tune_cmd.hpp"
 
 namespace {
@@ -95,6 +96,7 @@ int main(int argc, char** argv) {
   commands.push_back(std::make_unique<dmbd::apps::ModelCommand>(app));
   commands.push_back(std::make_unique<dmbd::apps::SimulateCommand>(app));
   commands.push_back(std::make_unique<dmbd::apps::ReportCommand>(app));
+  commands.push_back(std::make_unique<dmbd::apps::SweepCommand>(app));
 
   if (const std::string unknown = unknown_command(app, argc, argv); !unknown.empty()) {
     std::cerr << unknown << "\n";

@@ -15,6 +15,8 @@
 #include "dmbd/model/error.hpp"
 #include "dmbd/report/report.hpp"
 #include "dmbd/sim/run_directory.hpp"
+#include "dmbd/sim/run_parts.hpp"
+#include "simulate_jobs.hpp"
 
 namespace dmbd::apps {
 
@@ -24,6 +26,16 @@ void print_report(const report::ReportResult& r, const std::string& out) {
     if (f.rfind("frames/", 0) != 0) std::cout << "wrote " << out << "/" << f << "\n";
   if (r.frames > 0) std::cout << fmt::format("wrote {}/frames/ ({} frames, rendered at {:.0f} frames/s)\n", out, r.frames, r.render_fps);
   std::cout << "report: " << r.page << "\n";
+}
+
+void print_run(const sim::VariantResult& run) {
+  std::cout << fmt::format("{}: {:.3g} s simulated in {:.3g} s (real-time factor {:.3g})\n", run.name,
+                           run.log.time().empty() ? 0.0 : run.log.time().back(), run.wall_s, run.real_time_factor);
+}
+
+void print_run_directory(const sim::ScenarioRun& r, const std::string& out) {
+  for (const auto& run : r.runs) print_run(run);
+  for (const auto& f : r.files) std::cout << "wrote " << out << "/" << f << "\n";
 }
 
 double parse_duration(const std::string& text) {
@@ -72,24 +84,36 @@ SimulateCommand::SimulateCommand(CLI::App& app)
   cmd_->add_option("--out", out_, "Output folder (created if missing)")->required();
   cmd_->add_flag("--no-frames", no_frames_, "Do not render frames or the video");
   cmd_->add_option("--duration", duration_text_, "Simulated time of every variant (s), instead of the scenario's");
+  cmd_->add_option("--jobs", jobs_, "Run the variants in this many processes at once (default 1)");
+  cmd_->add_option("--variant", variant_,
+                   "Run only this variant and write it as a part of a sweep (log.csv, part.json; no experiment, no report)");
 }
 
 int SimulateCommand::run() {
   sim::ScenarioRunOptions o;
   if (!duration_text_.empty()) o.duration_s = parse_duration(duration_text_);
+  if (jobs_ < 1 || jobs_ > 1024) throw InputError(fmt::format("--jobs {}: expected a number of processes from 1 to 1024", jobs_));
+  if (!variant_.empty() && jobs_ != 1) throw InputError("--variant runs one variant in this process: --jobs does not apply");
   const sim::Scenario s = sim::load_scenario(scenario_);
+  if (!variant_.empty()) return run_part(s, o);
   const sim::ScenarioRun r = [&] {
     ProgressBar bar;
     o.on_progress = [&bar](double f, const std::string& variant) { bar.show(f, variant); };
-    return sim::run_scenario(s, out_, o);
+    if (jobs_ == 1 || s.variants.size() == 1) return sim::run_scenario(s, out_, o);
+    return sim::write_run(s, run_variants_in_processes(s, o, jobs_), out_);
   }();
-  for (const auto& run : r.runs)
-    std::cout << fmt::format("{}: {:.3g} s simulated in {:.3g} s (real-time factor {:.3g})\n", run.name,
-                             run.log.time().empty() ? 0.0 : run.log.time().back(), run.wall_s, run.real_time_factor);
-  for (const auto& f : r.files) std::cout << "wrote " << out_ << "/" << f << "\n";
+  print_run_directory(r, out_);
   report::ReportOptions ro;
   ro.frames = !no_frames_;
   print_report(report::write_report(r, out_, ro), out_);
+  return 0;
+}
+
+int SimulateCommand::run_part(const sim::Scenario& s, const sim::ScenarioRunOptions& o) const {
+  const sim::VariantResult run = sim::run_scenario_variant(s, sim::find_variant(s, variant_), o);
+  sim::write_part(s, run, out_);
+  print_run(run);
+  std::cout << "wrote " << out_ << "/log.csv\nwrote " << out_ << "/part.json\n";
   return 0;
 }
 

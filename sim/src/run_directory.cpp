@@ -1,6 +1,7 @@
 // run_scenario and read_run: a scenario's run directory (log.csv, metrics.json).
 #include "dmbd/sim/run_directory.hpp"
 
+#include "run_facts.hpp"
 #include "variant_controllers.hpp"
 
 #include <algorithm>
@@ -28,73 +29,12 @@ void make_dir(const std::string& dir) {
   if (ec || !fs::is_directory(dir)) throw OutputError("cannot create the folder '" + dir + "': " + (ec ? ec.message() : "a file is in the way"));
 }
 
-nlohmann::json run_json(const VariantResult& r) {
-  nlohmann::json j;
-  j["duration_s"] = r.log.time().empty() ? 0.0 : r.log.time().back();
-  j["wall_s"] = r.wall_s;
-  j["real_time_factor"] = r.real_time_factor;
-  j["integrator_steps"] = r.integrator_steps;
-  j["controller_steps"] = r.controller_steps;
-  j["controller_clamp_events"] = nlohmann::json::array();
-  for (const auto& c : r.clamp_events) j["controller_clamp_events"].push_back(c ? nlohmann::json(*c) : nlohmann::json());
-  j["truth"] = nlohmann::json::object();
-  for (const auto& [k, v] : r.truth) j["truth"][k] = v;
-  if (!r.timing_us.empty())
-    for (const auto& [k, v] : r.timing_us) j["timing_us"][k] = v;
-  for (const auto& f : r.fixed_point)
-    j["fixed_point"].push_back({{"controller", f.controller}, {"output", f.output}, {"unit", f.unit}, {"word_bits", f.word_bits},
-                                {"error_bound", f.bound}, {"range", f.range}});
-  if (!r.warnings.empty()) j["warnings"] = r.warnings;
-  if (r.sil) {
-    nlohmann::json& sil = j["sil"];
-    sil = {{"compiler", r.sil->compiler}, {"version", r.sil->version}, {"flags", r.sil->flags}, {"controllers", nlohmann::json::array()}};
-    for (const auto& c : r.sil->controllers) {
-      nlohmann::json e = {{"controller", c.controller}, {"scalar", c.scalar}, {"object", c.object}, {"compile_s", c.compile_s}};
-      if (c.saturations) e["saturations"] = *c.saturations;
-      sil["controllers"].push_back(e);
-    }
-  }
-  return j;
-}
-
-// A number written by finite_json ("inf", "NaN" as strings) read back.
-double number_of(const nlohmann::json& j) {
-  if (j.is_number()) return j.get<double>();
-  const std::string t = j.is_string() ? j.get<std::string>() : "NaN";
-  return t == "inf" ? HUGE_VAL : (t == "-inf" ? -HUGE_VAL : std::nan(""));
-}
-
-// run_json's "sil" read back.
-SilFacts sil_facts(const nlohmann::json& j) {
-  SilFacts f{j.value("compiler", ""), j.value("version", ""), j.value("flags", ""), {}};
-  for (const auto& c : j.value("controllers", nlohmann::json::array())) {
-    SilController e{c.value("controller", ""), c.value("scalar", ""), c.value("object", ""), number_of(c.value("compile_s", nlohmann::json())), {}};
-    if (c.contains("saturations") && c["saturations"].is_number_unsigned()) e.saturations = c["saturations"].get<unsigned long long>();
-    f.controllers.push_back(e);
-  }
-  return f;
-}
-
 nlohmann::json metrics_json(const Scenario& s, const std::vector<VariantResult>& runs, const ExperimentResult& e) {
   nlohmann::json m = e.metrics;
   m["scenario"] = s.name;
   m["scenario_file"] = fs::absolute(s.file).lexically_normal().string();
   for (const auto& r : runs) m["runs"][r.name] = run_json(r);
   return finite_json(m);
-}
-
-// One variant, its progress scaled into the whole scenario's.
-VariantResult run_one(const Scenario& s, const VariantSetup& v, const ScenarioRunOptions& o, double done, double total) {
-  RunOptions ro;
-  ro.duration_s = o.duration_s;
-  const double d = o.duration_s.value_or(v.duration_s);
-  if (o.on_progress) ro.on_progress = [&o, &v, done, d, total](double f) { o.on_progress((done + f * d) / total, v.name); };
-  try {
-    return run_variant(s, v, ro);
-  } catch (InputError& e) {  // a divergence or a mistake found while building: where, then the same error
-    e.prepend(s.file + ": variant '" + v.name + "': ");
-    throw;
-  }
 }
 
 double parse_cell(const std::string& cell, const std::string& file, std::size_t line) {
@@ -208,17 +148,23 @@ std::vector<Log> split_csv(const std::string& csv, const std::vector<std::string
   return logs;
 }
 
-ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const ScenarioRunOptions& options) {
+VariantResult run_scenario_variant(const Scenario& s, const VariantSetup& v, const ScenarioRunOptions& o, double done, double total) {
+  RunOptions ro;
+  ro.duration_s = o.duration_s;
+  const double d = o.duration_s.value_or(v.duration_s);
+  if (o.on_progress) ro.on_progress = [&o, &v, done, d, total](double f) { o.on_progress((done + f * d) / total, v.name); };
+  try {
+    return run_variant(s, v, ro);
+  } catch (InputError& e) {  // a divergence or a mistake found while building: where, then the same error
+    e.prepend(s.file + ": variant '" + v.name + "': ");
+    throw;
+  }
+}
+
+ScenarioRun write_run(const Scenario& s, std::vector<VariantResult> runs, const std::string& dir) {
   ScenarioRun res;
   res.scenario = s;
-  double total = 0, done = 0;
-  for (const auto& v : s.variants) total += options.duration_s.value_or(v.duration_s);
-  build_generated_controllers(s);  // every generated controller compiled first, several at once
-  for (const auto& v : s.variants) {
-    res.runs.push_back(run_one(s, v, options, done, total));
-    done += options.duration_s.value_or(v.duration_s);
-  }
-  // Only now the folder: a scenario that fails to build or diverges leaves none behind.
+  res.runs = std::move(runs);
   // The log first: it is there to look at even when the experiment's analysis fails.
   make_dir(dir);
   write_file_atomic((fs::path(dir) / "log.csv").string(), combined_csv(res.runs));
@@ -228,6 +174,19 @@ ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const Scenar
   write_file_atomic((fs::path(dir) / "metrics.json").string(), res.metrics.dump(2) + "\n");
   res.files.push_back("metrics.json");
   return res;
+}
+
+ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const ScenarioRunOptions& options) {
+  double total = 0, done = 0;
+  for (const auto& v : s.variants) total += options.duration_s.value_or(v.duration_s);
+  build_generated_controllers(s);  // every generated controller compiled first, several at once
+  std::vector<VariantResult> runs;
+  for (const auto& v : s.variants) {
+    runs.push_back(run_scenario_variant(s, v, options, done, total));
+    done += options.duration_s.value_or(v.duration_s);
+  }
+  // Only now the folder: a scenario that fails to build or diverges leaves none behind.
+  return write_run(s, std::move(runs), dir);
 }
 
 ScenarioRun read_run(const std::string& dir) {
@@ -253,22 +212,7 @@ ScenarioRun read_run(const std::string& dir) {
     for (const auto& v : res.scenario.variants)
       if (v.name == r.name) r.axes = v.axes;
     r.log = std::move(logs[k]);
-    r.wall_s = j.value("wall_s", 0.0);
-    r.real_time_factor = j.value("real_time_factor", 0.0);
-    r.integrator_steps = j.value("integrator_steps", 0LL);
-    r.controller_steps = j.value("controller_steps", std::vector<long long>{});
-    for (const auto& c : j.value("controller_clamp_events", nlohmann::json::array()))
-      r.clamp_events.push_back(c.is_number_unsigned() ? std::optional<unsigned long long>(c.get<unsigned long long>()) : std::nullopt);
-    if (j.contains("sil") && j["sil"].is_object()) r.sil = sil_facts(j["sil"]);
-    if (j.contains("truth"))
-      for (auto it = j["truth"].begin(); it != j["truth"].end(); ++it) r.truth[it.key()] = number_of(it.value());
-    if (j.contains("timing_us"))
-      for (auto it = j["timing_us"].begin(); it != j["timing_us"].end(); ++it) r.timing_us[it.key()] = number_of(it.value());
-    if (j.contains("fixed_point"))
-      for (const auto& f : j["fixed_point"])
-        r.fixed_point.push_back({f.value("controller", ""), f.value("output", ""), f.value("unit", ""), f.value("word_bits", 0),
-                                 number_of(f["error_bound"]), number_of(f["range"])});
-    r.warnings = j.value("warnings", std::vector<std::string>{});
+    read_run_json(j, r);
     res.runs.push_back(std::move(r));
   }
   res.experiment = evaluate_experiment(res.scenario, res.runs);

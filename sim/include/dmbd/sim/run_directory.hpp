@@ -42,6 +42,20 @@ struct ScenarioRun {
 // an experiment's error comes after log.csv is written.
 ScenarioRun run_scenario(const Scenario& s, const std::string& dir, const ScenarioRunOptions& options = {});
 
+// One variant of s run as run_scenario runs it: progress reported into the whole
+// scenario's (`done` of `total` simulated seconds before it), a mistake or a divergence
+// prefixed with the scenario file and the variant. Generated controllers not yet built
+// are compiled by the run itself.
+VariantResult run_scenario_variant(const Scenario& s, const VariantSetup& v, const ScenarioRunOptions& options,
+                                   double done = 0, double total = 1);
+
+// The back half of run_scenario: the runs of s (in the scenario's variant order) written
+// as DIR/log.csv, then the experiment evaluated on them and DIR/metrics.json. dmbd
+// simulate --jobs and dmbd sweep collect write their merged runs through it, so their
+// files are run_scenario's. Throws OutputError for a folder or file that cannot be
+// written, InputError for the experiment's errors (after log.csv).
+ScenarioRun write_run(const Scenario& s, std::vector<VariantResult> runs, const std::string& dir);
+
 // A run directory read back: the scenario reloaded from the file metrics.json names,
 // each variant's log split out of log.csv, its run figures from metrics.json, and the
 // experiment evaluated again on those logs. The logs hold every value to 17
