@@ -4,7 +4,10 @@
 #include <cmath>
 #include <filesystem>
 
+#include "dmbd/base/number_text.hpp"
+#include "dmbd/blocks/delay.hpp"
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/blocks/sampled.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/zpk.hpp"
 #include "dmbd/diagrams/linearize.hpp"
@@ -133,11 +136,25 @@ json step_json(const b::Siso& g, double t_end, int n) {
           {"peak_time_s", number(st.info.peak_time_s)}};
 }
 
-json c2d_json(const b::TransferFunction& g, const AnalyzeRequest& req) {
+// The exact discretisation of G(s) e^{-s T}: ZOH by the modified z-transform (any T);
+// Tustin and backward Euler times z^-n when T is n whole samples (they have no exact
+// form for a fraction of one).
+b::TransferFunction c2d_delayed(const b::TransferFunction& g, const AnalyzeRequest& req, double prewarp) {
+  if (*req.c2d == b::C2dMethod::Zoh) return b::c2d_zoh_delayed(g, req.c2d_ts, req.delay_s);
+  const auto n = b::whole_samples(req.delay_s, req.c2d_ts);
+  if (!n)
+    throw InputError("--c2d " + std::string(b::to_string(*req.c2d)) + ": the delay exp(-s*" + number_text(req.delay_s) +
+                     ") is not a whole number of samples of " + number_text(req.c2d_ts) +
+                     " s; --c2d zoh discretises any delay exactly");
+  return b::c2d(g, req.c2d_ts, *req.c2d, prewarp) * b::sample_delay(*n, req.c2d_ts);
+}
+
+json c2d_json(const b::TransferFunction& analysed, const AnalyzeRequest& req) {
+  const b::TransferFunction& g = req.undelayed ? *req.undelayed : analysed;
   if (g.is_discrete()) throw InputError("--c2d: the system is already discrete (an expression in z)");
   if (!g.is_proper()) throw InputError("--c2d needs a proper transfer function");
   const double prewarp = req.prewarp_hz * kTwoPi;
-  const b::TransferFunction gd = b::c2d(g, req.c2d_ts, *req.c2d, prewarp);
+  const b::TransferFunction gd = req.delay_s > 0.0 ? c2d_delayed(g, req, prewarp) : b::c2d(g, req.c2d_ts, *req.c2d, prewarp);
   json j;
   j["method"] = b::to_string(*req.c2d);
   j["ts"] = req.c2d_ts;
@@ -148,7 +165,10 @@ json c2d_json(const b::TransferFunction& g, const AnalyzeRequest& req) {
   // of the discrete denominator.
   std::vector<b::Complex> pd;
   for (const b::Complex& p : g.poles()) pd.push_back(b::c2d_pole(p, req.c2d_ts, *req.c2d, prewarp));
+  // A delay's poles sit at z = 0 (whole samples, and one for a fraction of a sample).
+  pd.insert(pd.end(), static_cast<size_t>(gd.order() - g.order()), b::Complex(0.0, 0.0));
   b::sort_roots(pd);
+  if (req.delay_s > 0.0) j["delay_s"] = req.delay_s;
   j["poles"] = roots_json(pd);
   j["zeros"] = roots_json(gd.zeros());
   j["stable"] = gd.is_stable();

@@ -22,6 +22,10 @@ struct AnalyzeRequest {
   double prewarp_hz = 0.0;
   std::string bode_png, step_png;        // plots to write (empty: none)
   std::string title;                     // plot titles
+  // A dead time exp(-s*T) of a continuous --tf: the analysed transfer holds its Padé
+  // approximant; --c2d discretises `undelayed` with the delay itself, exactly.
+  double delay_s = 0.0;
+  std::optional<blocks::TransferFunction> undelayed;
 };
 
 // A diagram's transfer between two signals (`loop_at` empty) or its loop transfer at

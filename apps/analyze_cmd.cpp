@@ -9,8 +9,11 @@
 #include "analyze_sweep.hpp"
 #include "cli_values.hpp"
 #include "dmbd/base/error.hpp"
+#include "dmbd/base/number_text.hpp"
+#include "dmbd/blocks/delay.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/frequency.hpp"
+#include "dmbd/blocks/sampled.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/diagram_source.hpp"
 
@@ -28,6 +31,8 @@ AnalyzeCommand::AnalyzeCommand(CLI::App& app)
   cmd_->add_option("--to", a_.to, "Diagram signal that is measured");
   cmd_->add_option("--loop-at", a_.loop_at, "Loop transfer at a break point (block.port), for margins");
   cmd_->add_option("--sweep", a_.sweep, "NAME=LO:HI:N[:log]: stability over a parameter range (diagrams)");
+  cmd_->add_option("--pade", a_.pade, "Order of the Padé approximant of a delay exp(-s*T) in a continuous --tf (default 3)");
+  cmd_->add_option("--minreal", a_.minreal, "Cancel pole/zero pairs within this relative distance |z - p| <= TOL |p|");
   cmd_->add_option("--param", a_.params, "NAME=VALUE (VALUE may use earlier parameters: wc=2*pi*fc); repeatable");
   cmd_->add_flag("--json", a_.json, "Print one JSON object instead of the summary");
   cmd_->add_option("--freq", a_.freq, "Frequencies for the Bode report, F1,F2,... (Hz)");
@@ -46,12 +51,40 @@ namespace {
 // the whole interconnection.
 struct System {
   std::optional<b::Siso> tf;
+  // A --tf's dead time exp(-s*T) (s), the transfer without it, and how it entered the
+  // analysed transfer: a Padé approximant's order, or whole samples when discrete.
+  double delay_s = 0.0;
+  std::optional<b::TransferFunction> undelayed;
+  int pade_order = 0, delay_samples = 0;
   std::shared_ptr<const diagrams::DiagramSource> source;  // parsed once: --sweep evaluates it again
   std::shared_ptr<const diagrams::Diagram> diagram;
   std::optional<DiagramTransfer> interconnection;  // a diagram's
   bool discrete = false;
   std::string title;
 };
+
+int parse_order(const std::string& text) {
+  char* end = nullptr;
+  const long n = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || n < 0 || n > 20) throw InputError("--pade '" + text + "': expected an order 0..20");
+  return static_cast<int>(n);
+}
+
+// g e^{-s T}: in z, T must be whole samples (z = e^{s ts}, so e^{-s T} = z^-n exactly);
+// in s, the Padé approximant of the given order stands for it, and --c2d uses the delay.
+b::TransferFunction delayed(System& s, const b::TransferFunction& g, double ts, int pade_order) {
+  if (s.discrete) {
+    const auto n = b::whole_samples(s.delay_s, ts);
+    if (!n)
+      throw InputError("exp(-s*" + number_text(s.delay_s) + ") is not a whole number of samples of " + number_text(ts) +
+                       " s (in z, a delay is z^-n)");
+    s.delay_samples = *n;
+    return g * b::sample_delay(*n, ts);
+  }
+  s.undelayed = g;
+  s.pade_order = pade_order;
+  return g * b::pade(s.delay_s, pade_order);
+}
 
 System read_tf(const Args& a, const b::ParameterMap& params, double ts) {
   if (!a.from.empty() || !a.to.empty() || !a.loop_at.empty() || !a.sweep.empty())
@@ -68,7 +101,12 @@ System read_tf(const Args& a, const b::ParameterMap& params, double ts) {
   }
   if (ts > 0.0 && !s.discrete && a.c2d.empty()) throw InputError("--ts is used with --c2d or with an expression in z");
   try {
-    s.tf = b::Siso::from_tf(b::TransferFunction::parse(a.tf, params, s.discrete ? ts : 0.0));
+    const b::Expression expr = b::Expression::parse(a.tf);
+    const b::Rational r = expr.evaluate_rational(params, s.discrete ? 'z' : 's', true);
+    b::TransferFunction g(r.num, r.den, s.discrete ? ts : 0.0);
+    s.delay_s = r.delay_s;
+    if (s.delay_s > 0.0) g = delayed(s, g, ts, a.pade.empty() ? 3 : parse_order(a.pade));
+    s.tf = b::Siso::from_tf(g);
   } catch (InputError& e) {
     e.prepend("--tf '" + a.tf + "': ");
     throw;
@@ -164,6 +202,33 @@ void describe_source(nlohmann::json& report, const Args& a, const System& s, con
   report["parameters"] = ps;
 }
 
+double parse_tolerance(const std::string& text, const b::ParameterMap& params) {
+  const double tol = parse_number(text, "--minreal", params);
+  if (!(tol >= 0.0) || !(tol < 1.0)) throw InputError("--minreal '" + text + "': expected a relative tolerance in [0, 1)");
+  return tol;
+}
+
+// A --tf's delay, and a diagram's sampled plants (continuous subsystems of a discrete
+// diagram, each one block with its exact sampled-data model).
+void describe_delay(nlohmann::json& report, const System& s) {
+  if (s.delay_s > 0.0) {
+    report["delay_s"] = s.delay_s;
+    if (s.discrete) report["delay_samples"] = s.delay_samples;
+    else report["pade_order"] = s.pade_order;
+  }
+  if (!s.diagram) return;
+  nlohmann::json plants = nlohmann::json::array();
+  for (const diagrams::Block& bl : s.diagram->blocks())
+    if (bl.sampled)
+      plants.push_back({{"block", bl.name},
+                        {"file", bl.subsystem->file()},
+                        {"ts", s.diagram->ts()},
+                        {"input_delays_s", bl.input_delays_s},
+                        {"output_delay_samples", bl.output_delay_samples},
+                        {"states", bl.model.num_states()}});
+  if (!plants.empty()) report["sampled_plants"] = plants;
+}
+
 }  // namespace
 
 int AnalyzeCommand::run() {
@@ -181,10 +246,16 @@ int AnalyzeCommand::run() {
     if (!(ts > 0.0) || !std::isfinite(ts)) throw InputError("--ts '" + a.ts + "': the sample time must be > 0 s");
   }
   const System s = a.tf_given ? read_tf(a, params, ts) : read_diagram(a, params);
+  if (!a.pade.empty() && s.pade_order == 0)
+    throw InputError("--pade applies to a delay exp(-s*T) in a continuous --tf (a diagram's delays: analysis.pade_order)");
   AnalyzeRequest req;
   req.title = s.title;
+  req.delay_s = s.undelayed ? s.delay_s : 0.0;
+  req.undelayed = s.undelayed;
   parse_discretisation(a, params, s, ts, req);
-  const b::Siso& g = *s.tf;
+  std::vector<b::Complex> cancelled;
+  const double tol = a.minreal.empty() ? 0.0 : parse_tolerance(a.minreal, params);
+  const b::Siso g = a.minreal.empty() ? *s.tf : s.tf->minreal(tol, &cancelled);
   if (s.discrete) ts = g.ts();
   parse_frequencies(a, params, s.discrete ? 0.5 / ts : INFINITY, req);
   parse_step(a, params, req);
@@ -194,6 +265,8 @@ int AnalyzeCommand::run() {
 
   nlohmann::json report = analyze(g, req);
   describe_source(report, a, s, params);
+  describe_delay(report, s);
+  if (!a.minreal.empty()) report["minreal"] = {{"tolerance", tol}, {"cancelled", roots_json(cancelled)}};
   if (sweep) {
     report["sweep_parameter"] = sweep->parameter;
     report["sweep"] = run_sweep(*s.source, params, *sweep, {a.from, a.to, a.loop_at});

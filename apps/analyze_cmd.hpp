@@ -22,6 +22,7 @@ class AnalyzeCommand : public Command {
     std::vector<std::string> params;
     bool json = false;
     std::string freq, freq_range, step, c2d, ts, prewarp, bode, step_plot;
+    std::string pade, minreal;  // --pade N (a delay's Padé order), --minreal TOL
   };
 
  private:

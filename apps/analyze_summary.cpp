@@ -75,6 +75,29 @@ void list_roots(std::ostringstream& o, const char* name, const json& list, char 
   }
 }
 
+// A --tf's delay, cancelled pole/zero pairs, and a diagram's sampled plants.
+void describe_delays(std::ostringstream& o, const json& r) {
+  if (r.contains("pade_order"))
+    o << "delay: exp(-s*" << fmt_num(r["delay_s"].get<double>()) << ") as its Padé approximant of order "
+      << r["pade_order"].get<int>() << " (--c2d discretises the delay itself)\n";
+  if (r.contains("delay_samples"))
+    o << "delay: exp(-s*" << fmt_num(r["delay_s"].get<double>()) << ") = z^-" << r["delay_samples"].get<int>() << "\n";
+  if (r.contains("minreal"))
+    o << "--minreal " << fmt_num(r["minreal"]["tolerance"].get<double>()) << ": " << r["minreal"]["cancelled"].size()
+      << " pole/zero pair(s) cancelled\n";
+  if (!r.contains("sampled_plants")) return;
+  for (const json& p : r["sampled_plants"]) {
+    o << "sampled plant '" << p["block"].get<std::string>() << "': zero-order hold and sampler at "
+      << fmt_num(p["ts"].get<double>()) << " s, exact (" << p["states"].get<int>() << " states";
+    std::string delays;
+    for (const json& d : p["input_delays_s"]) delays += (delays.empty() ? "" : ", ") + fmt_num(d.get<double>());
+    o << "; input delays " << delays << " s";
+    delays.clear();
+    for (const json& d : p["output_delay_samples"]) delays += (delays.empty() ? "" : ", ") + std::to_string(d.get<int>());
+    o << "; output delays " << delays << " samples)\n";
+  }
+}
+
 const char* stability_text(const std::string& s) {
   return s == "stable" ? "stable" : s == "marginal" ? "marginally stable" : "not stable";
 }
@@ -95,6 +118,7 @@ std::string summary(const json& r) {
   o << "\n";
   o << "order " << r["order"].get<int>() << ", " << (r["proper"].get<bool>() ? "proper" : "improper") << ", "
     << stability_text(r["stability"].get<std::string>()) << "\n";
+  describe_delays(o, r);
   list_roots(o, "poles", r["poles"], var);
   list_roots(o, "zeros", r["zeros"], var);
   if (!r["hidden_poles"].empty())

@@ -7,6 +7,7 @@
 #include "analyze.hpp"
 #include "cli_values.hpp"
 #include "dmbd/base/error.hpp"
+#include "dmbd/base/number_text.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/zpk.hpp"
 
@@ -79,6 +80,14 @@ std::string sweep_summary(const json& report) {
   s << "sweep of " << report["sweep_parameter"].get<std::string>() << " over " << report["sweep"].size() << " values: "
     << (unstable ? std::to_string(unstable) + " unstable" : std::string("all stable")) << ", largest real part of a pole "
     << worst << "\n";
+  const std::string name = report["sweep_parameter"].get<std::string>();
+  for (const auto& p : report["sweep"]) {
+    s << "  " << name << " = " << number_text(p["value"].get<double>()) << ": " << p["stability"].get<std::string>()
+      << (p["internally_stable"].get<bool>() ? "" : " (not internally stable)");
+    if (!p["max_real_pole"].is_null()) s << ", largest real part of a pole " << number_text(p["max_real_pole"].get<double>()) << " rad/s";
+    if (!p["bandwidth_hz"].is_null()) s << ", bandwidth " << number_text(p["bandwidth_hz"].get<double>()) << " Hz";
+    s << "\n";
+  }
   return s.str();
 }
 

@@ -289,6 +289,23 @@ Siso Siso::from_tf(const TransferFunction& g) {
   return s;
 }
 
+Siso Siso::minreal(double rel_tol, std::vector<Complex>* removed) const {
+  if (!(rel_tol >= 0.0) || !std::isfinite(rel_tol))
+    throw InputError("a cancellation tolerance must be a finite number >= 0");
+  std::vector<Complex> gone;
+  const Zpk reduced = zpk_.cancelled(rel_tol, &gone);
+  Siso s = *this;
+  s.zpk_ = reduced;
+  s.hidden_.insert(s.hidden_.end(), gone.begin(), gone.end());
+  sort_roots(s.hidden_);
+  s.factors_ = 1;
+  s.tf_ = reduced.to_tf();
+  s.realisation_.reset();
+  if (s.tf_ && s.tf_->is_proper()) s.realisation_ = SparseStateSpace(StateSpace::from_tf(*s.tf_));
+  if (removed) *removed = gone;
+  return s;
+}
+
 Siso Siso::from_state_space(const SparseStateSpace& sys) {
   if (sys.num_inputs() != 1 || sys.num_outputs() != 1)
     throw InputError("a SISO analysis needs one input and one output: the model has " +

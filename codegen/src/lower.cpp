@@ -248,6 +248,9 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
   for (int i = 0; i < nb; ++i) {
     const diagrams::Block& bl = *f.atomic[static_cast<size_t>(i)];
     const std::string path = f.atomic_name[static_cast<size_t>(i)];
+    if (bl.sampled)
+      throw InputError("block '" + path + "' is a sampled plant (a continuous subsystem in a discrete diagram), for "
+                       "analysis only: generate code from the controller's own diagram");
     BlockInfo info{path, diagrams::to_string(bl.type), "", ""};
     for (const auto& [k, v] : bl.fields) info.summary += (info.summary.empty() ? "" : ", ") + k + ": " + v;
     // Input slots per port, output slots per port.

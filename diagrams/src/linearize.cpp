@@ -68,7 +68,13 @@ struct Layout {
   int nx = 0, nu = 0, ny = 0, nd = 0;
 };
 
-Layout layout(const Flat& f, const Flat::Target& inj, bool loop) {
+// Injected inputs: a place and the first column of its entries in w.
+struct Injection {
+  Flat::Target at;
+  int column;
+};
+
+Layout layout(const Flat& f, const std::vector<Injection>& injections, bool loop) {
   Layout l;
   for (size_t k = 0; k < f.atomic.size(); ++k) {
     const b::StateSpace& m = f.atomic[k]->model;
@@ -80,17 +86,20 @@ Layout layout(const Flat& f, const Flat::Target& inj, bool loop) {
     l.ny += m.num_outputs();
     l.block_of_u.insert(l.block_of_u.end(), static_cast<size_t>(m.num_inputs()), static_cast<int>(k));
   }
-  l.nd = inj.size;
+  for (const Injection& j : injections) l.nd = std::max(l.nd, j.column + j.at.size);
   l.source.assign(static_cast<size_t>(l.nu), -1);
   l.injected.assign(static_cast<size_t>(l.nu), -1);
   for (size_t r = 0; r < f.readers.size(); ++r) {
     const Flat::Reader& rd = f.readers[r];
     if (rd.offset < 0) continue;  // a top-level output: only read when measured
-    const bool hit = Flat::affects(inj, rd.route, static_cast<int>(r));
+    int column = -1;  // the injection this reader sees (distinct places: at most one)
+    for (const Injection& j : injections)
+      if (Flat::affects(j.at, rd.route, static_cast<int>(r))) column = j.column;
+    const bool hit = column >= 0;
     const Flat::Signal& s = f.signals[static_cast<size_t>(rd.route.signal)];
     for (int t = 0; t < rd.size; ++t) {
       if (!(loop && hit) && !s.top_input) l.source[static_cast<size_t>(rd.offset + t)] = s.offset + t;
-      if (hit) l.injected[static_cast<size_t>(rd.offset + t)] = t;
+      if (hit) l.injected[static_cast<size_t>(rd.offset + t)] = column + t;
     }
   }
   return l;
@@ -215,11 +224,25 @@ void split_rows(const std::vector<Row>& rows, int nx, int nd, b::SparseMatrix& x
   ws.setFromTriplets(tw.begin(), tw.end());
 }
 
+// x' = A_b x_b + B_b u_b, block by block, as rows over [x; w].
+std::vector<Row> state_rows(const Flat& f, const Layout& l, const std::vector<Row>& u, Accumulator& acc) {
+  std::vector<Row> rows;
+  for (size_t k = 0; k < f.atomic.size(); ++k) {
+    const b::StateSpace& m = f.atomic[k]->model;
+    for (int i = 0; i < m.num_states(); ++i) {
+      for (int c = 0; c < m.num_states(); ++c) acc.add(l.xo[k] + c, m.a()(i, c));
+      for (int c = 0; c < m.num_inputs(); ++c) acc.add(u[static_cast<size_t>(l.uo[k] + c)], m.b()(i, c));
+      rows.push_back(acc.take());
+    }
+  }
+  return rows;
+}
+
 b::SparseStateSpace assemble(const Diagram& d, const std::string& from, const std::string& to, bool loop) {
   Flat f(d);
   const Flat::Target inj = f.find(from);
   const Flat::Target meas = loop ? inj : f.find(to);
-  const Layout l = layout(f, inj, loop);
+  const Layout l = layout(f, {{inj, 0}}, loop);
   const std::vector<OutputEntry> outs = output_entries(f);
   const std::vector<Row> u = input_rows(f, l, outs);
   const std::vector<bool> solved(static_cast<size_t>(l.nu), true);
@@ -252,6 +275,42 @@ b::SparseStateSpace assemble(const Diagram& d, const std::string& from, const st
 }
 
 }  // namespace
+
+// Every input of the diagram injected (stacked in order), every output measured.
+b::SparseStateSpace assemble_io(const Diagram& d) {
+  Flat f(d);
+  std::vector<Injection> injections;
+  int column = 0;
+  for (size_t i = 0; i < d.inputs().size(); ++i) {
+    injections.push_back({f.find(d.inputs()[i].name), column});
+    column += d.inputs()[i].size;
+  }
+  const Layout l = layout(f, injections, false);
+  const std::vector<OutputEntry> outs = output_entries(f);
+  const std::vector<Row> u = input_rows(f, l, outs);
+  const std::vector<bool> solved(static_cast<size_t>(l.nu), true);
+  Accumulator acc(l.nx + l.nd);
+  const std::vector<Row> states = state_rows(f, l, u, acc);
+  std::vector<Row> meas_rows;
+  for (int r = f.first_top_output; r < static_cast<int>(f.readers.size()); ++r) {
+    const Flat::Reader& rd = f.readers[static_cast<size_t>(r)];
+    const Flat::Signal& s = f.signals[static_cast<size_t>(rd.route.signal)];
+    int hit = -1;
+    for (const Injection& j : injections)
+      if (Flat::affects(j.at, rd.route, r)) hit = j.column;
+    for (int t = 0; t < rd.size; ++t) {
+      if (!s.top_input) add_output(f, l, outs[static_cast<size_t>(s.offset + t)], u, solved, acc);
+      if (hit >= 0) acc.add(l.nx + hit + t, 1.0);
+      meas_rows.push_back(acc.take());
+    }
+  }
+  b::SparseMatrix a, bm, c, dm;
+  split_rows(states, l.nx, l.nd, a, bm);
+  split_rows(meas_rows, l.nx, l.nd, c, dm);
+  return b::SparseStateSpace(a, bm, c, b::Matrix(dm), d.ts());
+}
+
+b::StateSpace linearize_io(const Diagram& d) { return assemble_io(d).dense().balanced(); }
 
 b::SparseStateSpace linearize_sparse(const Diagram& d, const std::string& from, const std::string& to) {
   return assemble(d, from, to, false);

@@ -15,6 +15,7 @@
 #include "dmbd/blocks/expression_numbers.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "parsed_diagram.hpp"
+#include "sampled_plant.hpp"
 
 namespace dmbd::diagrams {
 
@@ -726,7 +727,8 @@ class Loader {
       for (const Diagnostic& d : e.diagnostics()) error(d.where, d.message);
       return;
     }
-    if (bl.subsystem->ts() != d_->ts_) {
+    const bool sampled = d_->is_discrete() && !bl.subsystem->is_discrete();
+    if (bl.subsystem->ts() != d_->ts_ && !sampled) {
       error(f, "subsystem '" + bl.name + "' has sample time " + std::to_string(bl.subsystem->ts()) +
                    " s, this diagram " + std::to_string(d_->ts_) + " s");
       return;
@@ -734,6 +736,33 @@ class Loader {
     for (const auto& s : bl.subsystem->inputs()) bl.inputs.push_back({s.name, s.size});
     for (const auto& s : bl.subsystem->outputs()) bl.outputs.push_back({s.name, s.size});
     bl.feedthrough = subsystem_feedthrough(*bl.subsystem);
+    if (sampled) sample(bl, f);
+  }
+
+  // A continuous subsystem in a discrete diagram: its exact sampled-data model
+  // (sampled_plant.hpp); direct feedthrough where the model's D has it (an undelayed
+  // input reaching an output through gains alone).
+  void sample(Block& bl, const YAML::Node& f) {
+    try {
+      SampledPlant p = sample_plant(*bl.subsystem, d_->ts_, bl.name);
+      bl.sampled = true;
+      bl.model = std::move(p.model);
+      bl.input_delays_s = std::move(p.input_delays_s);
+      bl.output_delay_samples = std::move(p.output_delay_samples);
+    } catch (const DiagramError& e) {
+      for (const Diagnostic& d : e.diagnostics()) error(d.where, d.message);
+      return;
+    } catch (const InputError& e) {
+      error(f, "sampled plant '" + bl.name + "': " + e.what());
+      return;
+    }
+    bl.feedthrough.clear();
+    int col = 0;
+    for (const Port& p : bl.inputs) {
+      bl.feedthrough.push_back(bl.model.d().middleCols(col, p.size).cwiseAbs().maxCoeff() > 0.0);
+      col += p.size;
+    }
+    if (bl.model.num_inputs() == 1 && bl.model.num_outputs() == 1) bl.tf = bl.model.to_tf();
   }
 
   void subsystem_parameters(const YAML::Node& p, b::ParameterMap& overrides, std::map<std::string, Location>& where_given) {

@@ -47,6 +47,13 @@ class Siso {
   // TF's numerator and denominator at s = 0 (z = 1). From a state-space model whose
   // transfer is zero: every mode.
   const std::vector<Complex>& hidden() const { return hidden_; }
+  // The transfer with its zero/pole pairs |z - p| <= rel_tol |p| cancelled (each zero
+  // with its nearest pole, conjugate pairs together: Zpk::cancelled); the cancelled
+  // poles join hidden(), `removed` (if given) receives them. modes() are unchanged, so
+  // the internal verdict still sees them. The realisation and tf() are rebuilt from
+  // the reduced transfer (none when its coefficients overflow). InputError for
+  // rel_tol < 0 or not finite.
+  Siso minreal(double rel_tol, std::vector<Complex>* removed = nullptr) const;
   // Number of series factors (1 for a TF).
   int factors() const { return factors_; }
   // The states the transfer sees, balanced; empty for an improper TF.

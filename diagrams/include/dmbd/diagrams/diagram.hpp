@@ -87,6 +87,14 @@ struct Block {
   double lower = 0.0, upper = 0.0; // saturation: the upper bound
   // subsystem: the diagram of its `file`, evaluated at the block's `parameters`.
   std::shared_ptr<const Diagram> subsystem;
+  // subsystem: a continuous diagram inside a discrete one is a sampled plant: one
+  // atomic block whose `model` is its exact sampled-data model at the diagram's sample
+  // time (zero-order hold at its inputs, sampled outputs; blocks::c2d_zoh_delayed), its
+  // delay blocks at the inputs and outputs kept exact (docs/diagram-format.md).
+  bool sampled = false;
+  // A sampled plant's dead time per input (s) and whole-period delay per output.
+  std::vector<double> input_delays_s;
+  std::vector<int> output_delay_samples;  // per output of a sampled plant
   // The block's own discretisation for code generation (field `discretization`), if any.
   std::optional<blocks::C2dMethod> method;
   // Direct feedthrough from input port k to any output (algebraic-loop check).
@@ -153,6 +161,8 @@ class Diagram {
 
  private:
   friend class Loader;
+  // A copy with the given delay blocks made wires (diagrams/src/sampled_plant.cpp).
+  friend std::shared_ptr<const Diagram> with_wires(const Diagram& d, const std::vector<int>& delay_blocks);
   std::string name_, description_, file_;
   double ts_ = 0.0;
   int pade_order_ = 3;

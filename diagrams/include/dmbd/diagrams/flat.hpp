@@ -53,6 +53,9 @@ struct FlatDiagram {
     int offset = 0;  // in the stacked atomic inputs; top outputs: -1
     Route route;     // the signal it reads and the boundary points on the way
   };
+  // A subsystem block dissolves into its blocks; a sampled plant (Block::sampled) stays
+  // one atomic block with its discrete model.
+  static bool dissolved(const Block& bl) { return bl.type == BlockType::Subsystem && !bl.sampled; }
   std::vector<Context> ctx;  // every diagram of the hierarchy, the top first, depth first
   // Every signal: the top-level inputs in order, then each atomic block's output ports.
   std::vector<Signal> signals;
@@ -82,7 +85,7 @@ struct FlatDiagram {
       ctx[c].out_signal.assign(d.blocks().size(), -1);
       for (size_t bi = 0; bi < d.blocks().size(); ++bi) {
         const Block& bl = d.blocks()[bi];
-        if (bl.type == BlockType::Subsystem) continue;
+        if (dissolved(bl)) continue;
         atomic.push_back(&bl);
         atomic_name.push_back(ctx[c].prefix + bl.name);
         ctx[c].out_signal[bi] = static_cast<int>(signals.size());
@@ -98,7 +101,7 @@ struct FlatDiagram {
       const Diagram& d = *ctx[c].d;
       for (size_t bi = 0; bi < d.blocks().size(); ++bi) {
         const Block& bl = d.blocks()[bi];
-        if (bl.type == BlockType::Subsystem) continue;
+        if (dissolved(bl)) continue;
         reader_base.push_back(static_cast<int>(readers.size()));
         for (size_t k = 0; k < bl.inputs.size(); ++k) {
           Reader r{ctx[c].prefix + bl.name + "." + bl.inputs[k].name, bl.inputs[k].size, nu, {}};
@@ -125,7 +128,7 @@ struct FlatDiagram {
     ctx[static_cast<size_t>(me)].child.assign(d->blocks().size(), -1);
     for (size_t bi = 0; bi < d->blocks().size(); ++bi) {
       const Block& bl = d->blocks()[bi];
-      if (bl.type != BlockType::Subsystem) continue;
+      if (!dissolved(bl)) continue;
       const int child = static_cast<int>(ctx.size());
       ctx[static_cast<size_t>(me)].child[bi] = child;
       build_context(bl.subsystem.get(), prefix + bl.name + ".", me, static_cast<int>(bi));
@@ -156,7 +159,7 @@ struct FlatDiagram {
       return;
     }
     const Block& bl = cx.d->blocks()[static_cast<size_t>(src.block)];
-    if (bl.type != BlockType::Subsystem) {
+    if (!dissolved(bl)) {
       route.signal = cx.out_signal[static_cast<size_t>(src.block)] + src.port;
       return;
     }

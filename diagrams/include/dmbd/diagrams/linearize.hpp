@@ -21,6 +21,10 @@ namespace dmbd::diagrams {
 // signal or a numerically singular algebraic loop.
 blocks::StateSpace linearize(const Diagram& d, const std::string& from, const std::string& to);
 
+// The model from every diagram input (stacked in file order, each as wide as declared)
+// to every output (likewise): the diagram as one block, every state kept, balanced.
+// InputError for a numerically singular algebraic loop.
+blocks::StateSpace linearize_io(const Diagram& d);
 // The loop transfer at a break point: the readers downstream of `at` are fed an
 // injected input instead of the signal; L = -(signal before the break)/(injection),
 // the negative-feedback convention of the usual margins. InputError as linearize().
