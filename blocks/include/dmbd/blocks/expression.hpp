@@ -11,7 +11,8 @@
 // Numbers use C notation: 12, 1.5, .5, 1e-3, 0x1F, 0x1.8p3, 017 (octal), 0b101,
 // suffixes u/l/f, digit separators '. Names: parameters, the variable `s` or `z`,
 // the constants `pi` and `e`. Functions (constant arguments only): sqrt, exp, log,
-// log10, sin, cos, tan, abs, pow(a,b), min(a,b), max(a,b).
+// log10, sin, cos, tan, abs, pow(a,b), min(a,b), max(a,b); exp(-s*T) is a delay where
+// evaluate_rational allows one.
 // Limits (each a located ExpressionError): nesting (parentheses, calls, signs,
 // exponents) kMaxDepth levels, kMaxOperands numbers and names, and a rational result
 // of degree at most kMaxDegree.
