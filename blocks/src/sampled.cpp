@@ -40,11 +40,17 @@ struct Split {
   int whole = 0;
   double theta = 0.0;
 };
+// Each period of delay is a state of a dense model: bounded, so that a typo cannot ask
+// for gigabytes.
+constexpr int kMaxDelayPeriods = 1000;
+
 Split split(double delay_s, double ts) {
-  if (const auto n = whole_samples(delay_s, ts)) return {*n, 0.0};
-  const double d = std::floor(delay_s / ts);
-  if (d > 1e6) throw InputError("a delay of " + number_text(delay_s) + " s is more than 10^6 periods");
-  return {static_cast<int>(d), delay_s - d * ts};
+  const auto n = whole_samples(delay_s, ts);
+  const double d = n ? *n : std::floor(delay_s / ts);
+  if (d > kMaxDelayPeriods)
+    throw InputError("a delay of " + number_text(delay_s) + " s is more than " + std::to_string(kMaxDelayPeriods) +
+                     " periods of " + number_text(ts) + " s");
+  return n ? Split{*n, 0.0} : Split{static_cast<int>(d), delay_s - d * ts};
 }
 
 // Rows over the columns [states (N) | inputs (m)] of the assembled model.
@@ -90,7 +96,8 @@ StateSpace c2d_zoh_delayed(const StateSpace& sys, double ts, const std::vector<d
   for (int j = 0; j < m; ++j)
     if (in[static_cast<size_t>(j)].whole > 0) in_reg[static_cast<size_t>(j)] = total, total += in[static_cast<size_t>(j)].whole;
   for (int i = 0; i < p; ++i) {
-    if (out_delay[static_cast<size_t>(i)] < 0) throw InputError("c2d with delays: an output delay must be >= 0 periods");
+    if (out_delay[static_cast<size_t>(i)] < 0 || out_delay[static_cast<size_t>(i)] > kMaxDelayPeriods)
+      throw InputError("c2d with delays: an output delay must be 0.." + std::to_string(kMaxDelayPeriods) + " periods");
     if (out_delay[static_cast<size_t>(i)] > 0) out_reg[static_cast<size_t>(i)] = total, total += out_delay[static_cast<size_t>(i)];
   }
   const Assembly as(total, m);

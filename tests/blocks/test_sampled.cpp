@@ -132,6 +132,9 @@ TEST(Sampled, BadArgumentsAreInputErrors) {
   EXPECT_THROW(c2d_zoh_delayed(c, 0.01, {-0.001}), InputError);
   EXPECT_THROW(c2d_zoh_delayed(c, 0.0, {0.001}), InputError);
   EXPECT_THROW(c2d_zoh_delayed(c, 0.01, {0.001}, {1, 2}), InputError);
+  EXPECT_THROW(c2d_zoh_delayed(c, 0.01, {1e4}), InputError);     // 10^6 periods: refused, not allocated
+  EXPECT_THROW(c2d_zoh_delayed(c, 0.01, {0.0}, {5000}), InputError);
+  EXPECT_NO_THROW(c2d_zoh_delayed(c, 0.01, {10.0}));               // 1000 periods: the limit
   EXPECT_THROW(c2d_zoh_delayed(c2d(c, 0.01, C2dMethod::Zoh), 0.01, {0.0}), InputError);
 }
 

@@ -28,8 +28,8 @@ std::optional<int> whole_samples(double delay_s, double ts);
 // input of period k-d-1 through D when theta > 0. The model's states: the plant's, one
 // per input with theta > 0 (u[k-d-1]), then shift registers for the whole-period delays
 // of the inputs and of the outputs, in that order. Without delays it is c2d(sys, ts, Zoh).
-// InputError for a discrete sys, ts <= 0, a list of the wrong length, or a negative or
-// non-finite delay.
+// InputError for a discrete sys, ts <= 0, a list of the wrong length, a negative or
+// non-finite delay, or one of more than 1000 periods.
 StateSpace c2d_zoh_delayed(const StateSpace& sys, double ts, const std::vector<double>& input_delays_s,
                            const std::vector<int>& output_delay_samples = {});
 
