@@ -86,7 +86,7 @@ SimulateCommand::SimulateCommand(CLI::App& app)
   cmd_->add_option("--duration", duration_text_, "Simulated time of every variant (s), instead of the scenario's");
   cmd_->add_option("--jobs", jobs_, "Run the variants in this many processes at once (default 1)");
   cmd_->add_option("--variant", variant_,
-                   "Run only this variant and write it as a part of a sweep (log.csv, part.json; no experiment, no report)");
+                   "Run only this variant and write it as a part of a sweep (log.bin, part.json; no experiment, no report)");
 }
 
 int SimulateCommand::run() {
@@ -113,7 +113,7 @@ int SimulateCommand::run_part(const sim::Scenario& s, const sim::ScenarioRunOpti
   const sim::VariantResult run = sim::run_scenario_variant(s, sim::find_variant(s, variant_), o);
   sim::write_part(s, run, out_);
   print_run(run);
-  std::cout << "wrote " << out_ << "/log.csv\nwrote " << out_ << "/part.json\n";
+  std::cout << "wrote " << out_ << "/log.bin\nwrote " << out_ << "/part.json\n";
   return 0;
 }
 

@@ -3,7 +3,7 @@
 // scenario (docs/scenario-format.md), writing the run directory (log.csv, metrics.json:
 // sim), then its report (plots/, frames/, video.mp4, report.html: report/) into DIR;
 // with --jobs the variants run in N processes (docs/sweeps.md). `--variant NAME` runs
-// one variant and writes it as a sweep's part into DIR (log.csv, part.json).
+// one variant and writes it as a sweep's part into DIR (log.bin, part.json).
 #include <optional>
 #include <string>
 

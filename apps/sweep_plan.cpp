@@ -76,7 +76,7 @@ std::string readme_text(const sim::Scenario& s, const SweepPlan& p, const std::s
   jobs.txt      one shell command per job, run from this folder; job K writes parts/K/
   slurm.sbatch  a Slurm job array: task K runs line K of jobs.txt
   plan.json     the jobs, for dmbd sweep collect
-  parts/        the jobs' results: log.csv and part.json (written last) each
+  parts/        the jobs' results: log.bin and part.json (written last) each
 
 Every job runs {} (another: dmbd sweep plan --dmbd PATH).
 

@@ -176,6 +176,12 @@ TEST(Sweep, CollectNamesTheJobsThatDidNotFinishAndWritesNothing) {
   const auto ok = run_dmbd({"sweep", "collect", plan.string(), "--out", (t.dir() / "out").string(), "--no-frames"}, t.dir());
   ASSERT_EQ(ok.code, 0) << ok.err;
   EXPECT_NE(ok.out.find("with_dob/10000kg: 0.05 s simulated in"), std::string::npos) << ok.out;
+  // A part whose log was cut short is named, and nothing is written.
+  fs::resize_file(plan / "parts" / "1" / "log.bin", 1000);
+  const auto cut = run_dmbd({"sweep", "collect", plan.string(), "--out", (t.dir() / "out2").string()}, t.dir());
+  EXPECT_EQ(cut.code, 2);
+  EXPECT_EQ(cut.err.rfind("dmbd: error: " + (plan / "parts" / "1" / "log.bin").string() + ": 1000 bytes, expected ", 0), 0u) << cut.err;
+  EXPECT_FALSE(fs::exists(t.dir() / "out2"));
 }
 
 TEST(Sweep, BadInputIsOneLineAndExitTwo) {
