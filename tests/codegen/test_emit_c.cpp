@@ -25,6 +25,7 @@
 #include "dmbd/codegen/loop_program.hpp"
 #include "dmbd/codegen/verify.hpp"
 #include "dmbd/diagrams/diagram.hpp"
+#include "codegen_examples.hpp"
 #include "test_support.hpp"
 
 namespace dmbd::codegen {
@@ -49,10 +50,7 @@ struct Example {
 // Every diagram in examples/diagrams at 2 kHz, with its own discretisation method.
 const std::vector<Example>& examples() {
   static const std::vector<Example> all = [] {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(kExamples + "/diagrams"))
-      if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
-    std::sort(names.begin(), names.end());
+    const std::vector<std::string> names = dmbd::test::codegen_example_names(kExamples);
     std::vector<Example> out;
     for (const std::string& name : names) {
       const auto d = diagrams::Diagram::load(kExamples + "/diagrams/" + name + ".yaml");

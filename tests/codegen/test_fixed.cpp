@@ -20,6 +20,7 @@
 #include "dmbd/codegen/ranges.hpp"
 #include "dmbd/codegen/verify.hpp"
 #include "dmbd/diagrams/diagram.hpp"
+#include "codegen_examples.hpp"
 
 namespace {
 
@@ -126,10 +127,7 @@ TEST(Fixed, ErrorAgainstTheExactProgramIsWithinThePredictedBound) {
 // input that keeps every saturation block idle (the generated code, run by verify()).
 TEST(Fixed, GeneratedCodeIsBitExactAndWithinTheBoundForEveryExample) {
   const std::string dir = temp_dir("examples");
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(std::string(DMBD_EXAMPLES) + "/diagrams"))
-    if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
+  const std::vector<std::string> names = dmbd::test::codegen_example_names(DMBD_EXAMPLES);
   ASSERT_GE(names.size(), 6u);
   for (const std::string& name : names) {
     SCOPED_TRACE(name);
