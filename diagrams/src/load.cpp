@@ -402,7 +402,7 @@ class Loader {
                     "): it has no state-space realisation");
       return;
     }
-    if (d_->is_discrete() && !tf.is_discrete()) tf = b::c2d(tf, d_->ts_, method_);
+    if (d_->is_discrete() && !tf.is_discrete()) tf = b::c2d(tf, d_->ts_, bl.method.value_or(method_));
     bl.tf = tf;
     bl.model = b::StateSpace::from_tf(tf);
   }

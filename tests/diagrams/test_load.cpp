@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "dmbd/blocks/delay.hpp"
+#include "dmbd/blocks/discretize.hpp"
 #include "dmbd/blocks/elements.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 
@@ -620,6 +621,34 @@ TEST(Load, DiscreteDiagramWithZTransferFunctionsAndSampleDelays) {
   const Block& d1 = d->blocks()[static_cast<size_t>(d->find_block("d1"))];
   EXPECT_EQ(d1.delay_samples, 1);  // 'seconds' in a discrete diagram: 0.01 s = 1 sample
   EXPECT_EQ(d1.model.num_states(), 1);
+}
+
+// A block's own `discretization` overrides the diagram's in a discrete diagram, as in
+// code generation (docs/diagram-format.md): the lowpass by ZOH, the pd by the diagram's
+// backward Euler, the pid by its default, Tustin. Each against blocks::c2d of the
+// continuous element: the same call, so the coefficients are equal exactly.
+TEST(Load, ABlocksOwnDiscretizationOverridesTheDiagramsInADiscreteDiagram) {
+  const std::string yaml = R"yaml(name: methods
+sample_time: 0.002
+discretization: backward-euler
+inputs: {u: {}}
+outputs: {a: {}, b: {}}
+blocks:
+  lp: {type: lowpass, order: 2, cutoff_hz: 20, discretization: zoh}
+  c:  {type: pd, P: 3, D: 0.1, tau: 0.01}
+connections:
+  - u -> [lp, c]
+  - lp -> a
+  - c -> b
+)yaml";
+  const auto d = Diagram::parse(yaml, "inline.yaml");
+  const auto tf_of = [&](const char* name) { return *d->blocks()[static_cast<size_t>(d->find_block(name))].tf; };
+  const blocks::TransferFunction lp = blocks::c2d(blocks::butterworth_lowpass(2, 2 * M_PI * 20), 0.002, blocks::C2dMethod::Zoh);
+  const blocks::TransferFunction pd = blocks::c2d(blocks::pd(3, 0.1, 0.01), 0.002, blocks::C2dMethod::BackwardEuler);
+  EXPECT_EQ(tf_of("lp").num().coeffs(), lp.num().coeffs());
+  EXPECT_EQ(tf_of("lp").den().coeffs(), lp.den().coeffs());
+  EXPECT_EQ(tf_of("c").num().coeffs(), pd.num().coeffs());
+  EXPECT_EQ(tf_of("c").den().coeffs(), pd.den().coeffs());
 }
 
 TEST(Load, SInADiscreteDiagramIsAnError) {
