@@ -1,7 +1,5 @@
 #include "dmbd/blocks/sampled.hpp"
 
-#include <unsupported/Eigen/MatrixFunctions>
-
 #include <cmath>
 #include <string>
 
@@ -22,17 +20,13 @@ std::optional<int> whole_samples(double delay_s, double ts) {
 
 namespace {
 
-// e^{A t} and Gamma(t) = int_0^t e^{A s} ds B, from one exponential of [A B; 0 0] t.
+// e^{A t} and Gamma(t) = int_0^t e^{A s} ds B: the ZOH model over a period of t.
 struct Hold {
   Matrix phi, gamma;
 };
 Hold hold(const StateSpace& sys, double t) {
-  const int n = sys.num_states(), m = sys.num_inputs();
-  Matrix big = Matrix::Zero(n + m, n + m);
-  big.topLeftCorner(n, n) = sys.a() * t;
-  big.topRightCorner(n, m) = sys.b() * t;
-  const Matrix e = big.exp();
-  return {e.topLeftCorner(n, n), e.topRightCorner(n, m)};
+  const StateSpace d = c2d(sys, t, C2dMethod::Zoh);
+  return {d.a(), d.b()};
 }
 
 // A delay split into whole periods d and the fraction theta in [0, ts).

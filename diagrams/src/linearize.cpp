@@ -247,16 +247,7 @@ b::SparseStateSpace assemble(const Diagram& d, const std::string& from, const st
   const std::vector<Row> u = input_rows(f, l, outs);
   const std::vector<bool> solved(static_cast<size_t>(l.nu), true);
   Accumulator acc(l.nx + l.nd);
-  // x' = A_b x_b + B_b u_b, block by block.
-  std::vector<Row> state_rows;
-  for (size_t k = 0; k < f.atomic.size(); ++k) {
-    const b::StateSpace& m = f.atomic[k]->model;
-    for (int i = 0; i < m.num_states(); ++i) {
-      for (int c = 0; c < m.num_states(); ++c) acc.add(l.xo[k] + c, m.a()(i, c));
-      for (int c = 0; c < m.num_inputs(); ++c) acc.add(u[static_cast<size_t>(l.uo[k] + c)], m.b()(i, c));
-      state_rows.push_back(acc.take());
-    }
-  }
+  const std::vector<Row> states = state_rows(f, l, u, acc);
   // The measurement: the value at the target, with the injection if it lies upstream
   // (for a loop, the value before the break, negated).
   std::vector<Row> meas_rows;
@@ -268,7 +259,7 @@ b::SparseStateSpace assemble(const Diagram& d, const std::string& from, const st
     meas_rows.push_back(acc.take());
   }
   b::SparseMatrix a, bm, c, dm;
-  split_rows(state_rows, l.nx, l.nd, a, bm);
+  split_rows(states, l.nx, l.nd, a, bm);
   split_rows(meas_rows, l.nx, l.nd, c, dm);
   if (loop) c = -c, dm = -dm;
   return b::SparseStateSpace(a, bm, c, b::Matrix(dm), d.ts());

@@ -34,17 +34,18 @@ Diagnostic inner_delay(const Block& bl, const std::string& plant) {
                         "to the plant's input or output (or into the controller, in whole samples)"};
 }
 
-// How many block inputs and diagram outputs read `src`, and the last block reading it.
+// How many block inputs and how many diagram outputs read `src`, and the last block
+// reading it.
 struct Readers {
-  int count = 0, block = -1;
+  int blocks = 0, outputs = 0, block = -1;
 };
 Readers readers_of(const Diagram& d, Source src) {
   Readers r;
   for (size_t bi = 0; bi < d.blocks().size(); ++bi)
     for (const Source& s : d.drivers(static_cast<int>(bi)))
-      if (s == src) ++r.count, r.block = static_cast<int>(bi);
+      if (s == src) ++r.blocks, r.block = static_cast<int>(bi);
   for (size_t o = 0; o < d.outputs().size(); ++o)
-    if (d.output_driver(static_cast<int>(o)) == src) ++r.count;
+    if (d.output_driver(static_cast<int>(o)) == src) ++r.outputs;
   return r;
 }
 
@@ -62,13 +63,12 @@ void refuse_inner_delays(const Diagram& d, const std::string& plant, std::vector
 SampledPlant sample_plant(const Diagram& plant, double ts, const std::string& name) {
   const int ni = static_cast<int>(plant.inputs().size()), no = static_cast<int>(plant.outputs().size());
   std::vector<double> in_delay(static_cast<size_t>(ni), 0.0), out_delay(static_cast<size_t>(no), 0.0);
-  std::vector<int> wired;
   std::vector<Diagnostic> errors;
   // A delay that alone reads a plant input is that input's dead time.
   std::set<int> at_boundary;
   for (int j = 0; j < ni; ++j) {
     const Readers r = readers_of(plant, {-1, j});
-    if (r.count == 1 && r.block >= 0 && is_delay(plant.blocks()[static_cast<size_t>(r.block)])) {
+    if (r.blocks == 1 && r.outputs == 0 && is_delay(plant.blocks()[static_cast<size_t>(r.block)])) {
       in_delay[static_cast<size_t>(j)] = plant.blocks()[static_cast<size_t>(r.block)].delay_s;
       at_boundary.insert(r.block);
     }
@@ -78,10 +78,8 @@ SampledPlant sample_plant(const Diagram& plant, double ts, const std::string& na
     const Block& bl = plant.blocks()[bi];
     if (!is_delay(bl) || at_boundary.count(static_cast<int>(bi))) continue;
     const Source src{static_cast<int>(bi), 0};
-    bool only_outputs = readers_of(plant, src).count > 0;
-    for (size_t k = 0; k < plant.blocks().size(); ++k)
-      for (const Source& s : plant.drivers(static_cast<int>(k))) only_outputs = only_outputs && !(s == src);
-    if (!only_outputs) {
+    const Readers r = readers_of(plant, src);
+    if (r.blocks > 0 || r.outputs == 0) {
       errors.push_back(inner_delay(bl, name));
       continue;
     }
@@ -94,7 +92,7 @@ SampledPlant sample_plant(const Diagram& plant, double ts, const std::string& na
   // A SISO plant's output delay commutes to its input, where any length is exact.
   const bool siso = ni == 1 && no == 1 && plant.inputs()[0].size == 1 && plant.outputs()[0].size == 1;
   if (siso) in_delay[0] += out_delay[0], out_delay[0] = 0.0;
-  std::vector<int> out_samples;
+  std::vector<int> out_samples, out_periods;  // per scalar output entry; per output
   for (int o = 0; o < no; ++o) {
     const auto n = b::whole_samples(out_delay[static_cast<size_t>(o)], ts);
     if (!n) {
@@ -106,17 +104,18 @@ SampledPlant sample_plant(const Diagram& plant, double ts, const std::string& na
                                       "a period"});
       continue;
     }
+    out_periods.push_back(*n);
     for (int k = 0; k < plant.outputs()[static_cast<size_t>(o)].size; ++k) out_samples.push_back(*n);
   }
   if (!errors.empty()) throw DiagramError(errors);
-  wired.assign(at_boundary.begin(), at_boundary.end());
+  const std::vector<int> wired(at_boundary.begin(), at_boundary.end());
   std::vector<double> columns;
   for (int j = 0; j < ni; ++j)
     for (int k = 0; k < plant.inputs()[static_cast<size_t>(j)].size; ++k) columns.push_back(in_delay[static_cast<size_t>(j)]);
   SampledPlant s;
   s.model = b::c2d_zoh_delayed(linearize_io(*with_wires(plant, wired)), ts, columns, out_samples);
   s.input_delays_s = in_delay;
-  for (int o = 0; o < no; ++o) s.output_delay_samples.push_back(static_cast<int>(std::lround(out_delay[static_cast<size_t>(o)] / ts)));
+  s.output_delay_samples = out_periods;
   return s;
 }
 

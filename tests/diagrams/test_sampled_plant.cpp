@@ -81,16 +81,13 @@ TEST(SampledPlant, TheDelayIsWhatMovesTheMargins) {
 TEST(SampledPlant, ASisoPlantsOutputDelayIsItsInputDelay) {
   // The same motor with the delay after it: delays commute in a SISO plant, so the
   // sampled model, and the loop, are the same (to rounding).
-  const auto d = Diagram::load(kData + "motor_loop.yaml");
   const b::Siso in = loop_at("motor_loop.yaml", "C.out");
-  const std::string text = [] {
-    std::string s = "name: motor_loop_out\nsample_time: 0.001\ninputs:\n  q_d: {}\noutputs:\n  q: {}\nblocks:\n"
-                    "  err: {type: sum, signs: \"+-\"}\n  C: {type: pd, P: 40, D: 1.2, tau: 0.002}\n"
-                    "  plant: {type: subsystem, file: motor_plant_output_delay.yaml}\n  meas: {type: delay, samples: 1}\n"
-                    "connections:\n  - q_d -> err.in1\n  - err -> C\n  - C -> plant\n  - plant -> [q, meas]\n"
-                    "  - meas -> err.in2\n";
-    return s;
-  }();
+  const std::string text =
+      "name: motor_loop_out\nsample_time: 0.001\ninputs:\n  q_d: {}\noutputs:\n  q: {}\nblocks:\n"
+      "  err: {type: sum, signs: \"+-\"}\n  C: {type: pd, P: 40, D: 1.2, tau: 0.002}\n"
+      "  plant: {type: subsystem, file: motor_plant_output_delay.yaml}\n  meas: {type: delay, samples: 1}\n"
+      "connections:\n  - q_d -> err.in1\n  - err -> C\n  - C -> plant\n  - plant -> [q, meas]\n"
+      "  - meas -> err.in2\n";
   const auto out_diagram = Diagram::parse(text, kData + "motor_loop_out.yaml");
   const b::Siso out = b::Siso::from_state_space(loop_transfer_sparse(*out_diagram, "C.out"));
   expect_same_margins(b::margins(out.zpk()), b::margins(in.zpk()), 1e-9);
@@ -100,7 +97,6 @@ TEST(SampledPlant, ASisoPlantsOutputDelayIsItsInputDelay) {
   EXPECT_DOUBLE_EQ(plant.input_delays_s[0], 0.0004);
   EXPECT_EQ(plant.model.num_states(), 3);  // the motor's two states and u[k-1] for the 0.4 of a period
   EXPECT_TRUE(plant.model.is_discrete());
-  (void)d;
 }
 
 TEST(SampledPlant, DelaysItCannotSampleExactlyAreErrorsAtTheDelayBlock) {
