@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/model/robot_folder.hpp"
 #include "dmbd/blocks/error.hpp"
 
 namespace dmbd::apps {
@@ -72,6 +73,20 @@ void check_output_file(const std::string& path, const std::string& option, const
   if (std::filesystem::is_directory(p, ec)) throw OutputError(option + " '" + path + "': a directory is in the way");
   if (!extension.empty() && p.extension() != extension)
     throw OutputError(option + " '" + path + "': expected a file name ending in " + extension);
+}
+
+std::string urdf_path(const std::string& urdf, const std::string& robot) {
+  if (!urdf.empty() && !robot.empty()) throw InputError("give a URDF file or --robot NAME, not both");
+  if (!robot.empty()) {
+    try {
+      return model::find_robot(robot).urdf;
+    } catch (InputError& e) {
+      e.prepend("--robot: ");
+      throw;
+    }
+  }
+  if (urdf.empty()) throw InputError("give a URDF file or --robot NAME (a robot folder, docs/robot-folder.md)");
+  return urdf;
 }
 
 }  // namespace dmbd::apps

@@ -22,5 +22,9 @@ blocks::ParameterMap parse_params(const std::vector<std::string>& list);
 void check_output_file(const std::string& path, const std::string& option, const std::string& extension = "");
 // An output folder that must exist and be writable. Throws OutputError.
 void check_output_folder(const std::string& path, const std::string& option);
+// The URDF a model command reads: the file given, else robot NAME's (--robot, found on
+// the robot search path). InputError when both or neither are given, or the robot is
+// not found.
+std::string urdf_path(const std::string& urdf, const std::string& robot);
 
 }  // namespace dmbd::apps

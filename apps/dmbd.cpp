@@ -84,7 +84,7 @@ int run_command(dmbd::apps::Command& command) {
 
 int main(int argc, char** argv) {
   CLI::App app{"draco-mbd: model-based design for legged robots (block diagrams, analysis, code generation, "
-               "simulation of the DRACO biped)",
+               "simulation of robots on their actuators)",
                "dmbd"};
   app.set_version_flag("--version", std::string("dmbd ") + dmbd::kVersion);
   app.require_subcommand(1);

@@ -1,5 +1,7 @@
 #include "model_cmd.hpp"
 
+#include "cli_values.hpp"
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -11,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "dmbd/model/draco_files.hpp"
+#include "dmbd/model/robot_folder.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/robot_description.hpp"
 
@@ -118,8 +120,6 @@ std::string info_text(const m::RobotDescription& r, const m::ModelSummary& s) {
       o << line << "\n";
     }
   }
-  if (!r.warnings.empty()) o << "\n";
-  for (const std::string& wn : r.warnings) o << "warning: " << wn << "\n";
   return o.str();
 }
 
@@ -129,7 +129,8 @@ ModelCommand::ModelCommand(CLI::App& app) : Command(app, "model", "Robot descrip
   cmd_->require_subcommand(1);
   info_ = cmd_->add_subcommand(
       "info", "Summary of a URDF: links, degrees of freedom, joints with limits and axes, mass, height, meshes");
-  info_->add_option("urdf", urdf_, "The URDF file (default: DRACO's, " + model::draco_dir() + "/draco.urdf)");
+  info_->add_option("urdf", urdf_, "The URDF file (or --robot)");
+  info_->add_option("--robot", robot_, "A robot folder by name, found on the robot search path (docs/robot-folder.md)");
   info_->add_flag("--json", json_, "Print one JSON object instead of the table");
   info_->add_option("--package-path", package_paths_,
                     "Folder searched for package://NAME/PATH meshes (as DIR/NAME/PATH, then DIR/PATH); repeatable. "
@@ -146,11 +147,11 @@ int ModelCommand::run() {
   m::UrdfOptions options;
   options.package_paths = package_paths_;
   options.strict = strict_;
-  const std::string path = urdf_.empty() ? model::draco_dir() + "/draco.urdf" : urdf_;
-  const m::RobotDescription robot = m::load_urdf(path, options);
+  const m::RobotDescription robot = m::load_urdf(urdf_path(urdf_, robot_), options);
   const m::ModelSummary summary = m::summarize(robot);
   // Everything is computed before anything is printed: a failure prints no half report.
   const std::string out = json_ ? info_json(robot, summary).dump() + "\n" : info_text(robot, summary);
+  for (const std::string& w : robot.warnings) std::cerr << "warning: " << w << "\n";
   std::cout << out << std::flush;
   return 0;
 }

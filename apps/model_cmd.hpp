@@ -22,7 +22,7 @@ class ModelCommand : public Command {
 
  private:
   CLI::App* info_ = nullptr;
-  std::string urdf_;
+  std::string urdf_, robot_;
   std::vector<std::string> package_paths_;
   bool json_ = false;
   bool strict_ = false;

@@ -15,7 +15,6 @@
 #include "cli_values.hpp"
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/file.hpp"
-#include "dmbd/model/draco_files.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/model/workspace.hpp"
 #include "dmbd/report/range_of_motion.hpp"
@@ -100,7 +99,8 @@ ModelWorkspace::ModelWorkspace(CLI::App& model) {
   cmd_ = model.add_subcommand("workspace",
                               "A link's workspace by sampling the joint space within the limits: density maps "
                               "(sagittal and frontal), the range of motion of each joint, workspace.json");
-  cmd_->add_option("urdf", urdf_, "The URDF file (default: DRACO's, " + model::draco_dir() + "/draco.urdf)");
+  cmd_->add_option("urdf", urdf_, "The URDF file (or --robot)");
+  cmd_->add_option("--robot", robot_, "A robot folder by name, found on the robot search path (docs/robot-folder.md)");
   cmd_->add_option("--link", link_, "The link whose origin is sampled (e.g. l_foot)")->required();
   cmd_->add_option("--out", out_, "Folder for the figures and workspace.json (made when missing)")->required();
   cmd_->add_option("--relative-to", relative_to_, "Positions in this link's frame (default: the root link)");
@@ -110,7 +110,7 @@ ModelWorkspace::ModelWorkspace(CLI::App& model) {
 }
 
 int ModelWorkspace::run() {
-  const m::RobotDescription robot = m::load_urdf(urdf_.empty() ? model::draco_dir() + "/draco.urdf" : urdf_);
+  const m::RobotDescription robot = m::load_urdf(urdf_path(urdf_, robot_));
   const std::string reference = relative_to_.empty() ? robot.links.front().name : relative_to_;
   const int samples = parse_count(samples_, "--samples");
   const double cell = parse_number(cell_, "--cell");

@@ -22,7 +22,7 @@ class ModelWorkspace {
 
  private:
   CLI::App* cmd_ = nullptr;
-  std::string urdf_, link_, relative_to_, out_, samples_ = "100000", cell_ = "0.02";
+  std::string urdf_, robot_, link_, relative_to_, out_, samples_ = "100000", cell_ = "0.02";
   std::uint64_t seed_ = 1;
 };
 

@@ -5,7 +5,7 @@
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/report/report.hpp"
-#include "dmbd/sim/run_directory.hpp"
+#include "dmbd/scenario/run_directory.hpp"
 #include "simulate_cmd.hpp"
 
 namespace dmbd::apps {
@@ -51,7 +51,7 @@ int ReportCommand::run() {
     o.camera_position = p;
     o.camera_look_at = l;
   }
-  print_report(report::write_report(sim::read_run(dir_), dir_, o), dir_);
+  print_report(report::write_report(scenario::read_run(dir_), dir_, o), dir_);
   return 0;
 }
 

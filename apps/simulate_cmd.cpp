@@ -14,8 +14,8 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/report/report.hpp"
-#include "dmbd/sim/run_directory.hpp"
-#include "dmbd/sim/run_parts.hpp"
+#include "dmbd/scenario/run_directory.hpp"
+#include "dmbd/scenario/run_parts.hpp"
 #include "simulate_jobs.hpp"
 
 namespace dmbd::apps {
@@ -33,7 +33,7 @@ void print_run(const sim::VariantResult& run) {
                            run.log.time().empty() ? 0.0 : run.log.time().back(), run.wall_s, run.real_time_factor);
 }
 
-void print_run_directory(const sim::ScenarioRun& r, const std::string& out) {
+void print_run_directory(const scenario::ScenarioRun& r, const std::string& out) {
   for (const auto& run : r.runs) print_run(run);
   for (const auto& f : r.files) std::cout << "wrote " << out << "/" << f << "\n";
 }
@@ -78,7 +78,7 @@ class ProgressBar {
 
 SimulateCommand::SimulateCommand(CLI::App& app)
     : Command(app, "simulate",
-              "Run a scenario against the model of DRACO and write a log, metrics, plots, frames, a video and an HTML "
+              "Run a scenario against a robot's model and write a log, metrics, plots, frames, a video and an HTML "
               "report") {
   cmd_->add_option("scenario", scenario_, "A scenario file (YAML, docs/scenario-format.md)")->required();
   cmd_->add_option("--out", out_, "Output folder (created if missing)")->required();
@@ -90,17 +90,17 @@ SimulateCommand::SimulateCommand(CLI::App& app)
 }
 
 int SimulateCommand::run() {
-  sim::ScenarioRunOptions o;
+  scenario::ScenarioRunOptions o;
   if (!duration_text_.empty()) o.duration_s = parse_duration(duration_text_);
   if (jobs_ < 1 || jobs_ > 1024) throw InputError(fmt::format("--jobs {}: expected a number of processes from 1 to 1024", jobs_));
   if (!variant_.empty() && jobs_ != 1) throw InputError("--variant runs one variant in this process: --jobs does not apply");
-  const sim::Scenario s = sim::load_scenario(scenario_);
+  const scenario::Scenario s = scenario::load_scenario(scenario_);
   if (!variant_.empty()) return run_part(s, o);
-  const sim::ScenarioRun r = [&] {
+  const scenario::ScenarioRun r = [&] {
     ProgressBar bar;
     o.on_progress = [&bar](double f, const std::string& variant) { bar.show(f, variant); };
-    if (jobs_ == 1 || s.variants.size() == 1) return sim::run_scenario(s, out_, o);
-    return sim::write_run(s, run_variants_in_processes(s, o, jobs_), out_);
+    if (jobs_ == 1 || s.variants.size() == 1) return scenario::run_scenario(s, out_, o);
+    return scenario::write_run(s, run_variants_in_processes(s, o, jobs_), out_);
   }();
   print_run_directory(r, out_);
   report::ReportOptions ro;
@@ -109,9 +109,9 @@ int SimulateCommand::run() {
   return 0;
 }
 
-int SimulateCommand::run_part(const sim::Scenario& s, const sim::ScenarioRunOptions& o) const {
-  const sim::VariantResult run = sim::run_scenario_variant(s, sim::find_variant(s, variant_), o);
-  sim::write_part(s, run, out_);
+int SimulateCommand::run_part(const scenario::Scenario& s, const scenario::ScenarioRunOptions& o) const {
+  const sim::VariantResult run = scenario::run_scenario_variant(s, scenario::find_variant(s, variant_), o);
+  scenario::write_part(s, run, out_);
   print_run(run);
   std::cout << "wrote " << out_ << "/log.bin\nwrote " << out_ << "/part.json\n";
   return 0;

@@ -9,7 +9,7 @@
 
 #include "command.hpp"
 #include "dmbd/report/report.hpp"
-#include "dmbd/sim/run_directory.hpp"
+#include "dmbd/scenario/run_directory.hpp"
 
 namespace dmbd::apps {
 
@@ -19,7 +19,7 @@ void print_report(const report::ReportResult& r, const std::string& out);
 // One run's line: "NAME: 2 s simulated in 1.59 s (real-time factor 1.26)".
 void print_run(const sim::VariantResult& run);
 // Each run's line, then "wrote DIR/FILE" per file of the run directory.
-void print_run_directory(const sim::ScenarioRun& r, const std::string& out);
+void print_run_directory(const scenario::ScenarioRun& r, const std::string& out);
 // --duration: a finite positive number of seconds, else InputError.
 double parse_duration(const std::string& text);
 
@@ -30,7 +30,7 @@ class SimulateCommand : public Command {
 
  private:
   // --variant: the one variant run and written as a part.
-  int run_part(const sim::Scenario& s, const sim::ScenarioRunOptions& o) const;
+  int run_part(const scenario::Scenario& s, const scenario::ScenarioRunOptions& o) const;
 
   std::string scenario_, out_;
   bool no_frames_ = false;

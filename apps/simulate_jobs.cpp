@@ -17,7 +17,7 @@
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/file.hpp"
-#include "dmbd/sim/run_parts.hpp"
+#include "dmbd/scenario/run_parts.hpp"
 
 namespace dmbd::apps {
 
@@ -48,13 +48,13 @@ class ScratchFolder {
 
 // In the worker: run variant k, write its part, and leave without unwinding the parent's
 // state (no destructors, no atexit handlers: the parent owns the loaded objects' folders).
-[[noreturn]] void work(const sim::Scenario& s, std::size_t k, const sim::ScenarioRunOptions& o, const ScratchFolder& scratch) {
+[[noreturn]] void work(const scenario::Scenario& s, std::size_t k, const scenario::ScenarioRunOptions& o, const ScratchFolder& scratch) {
   int status = 0;
   std::string message;
   try {
-    sim::ScenarioRunOptions quiet;
+    scenario::ScenarioRunOptions quiet;
     quiet.duration_s = o.duration_s;
-    sim::write_part(s, sim::run_scenario_variant(s, s.variants[k], quiet), scratch.part(k));
+    scenario::write_part(s, scenario::run_scenario_variant(s, s.variants[k], quiet), scratch.part(k));
   } catch (const InputError& e) {
     status = 2, message = e.what();
   } catch (const std::exception& e) {
@@ -78,7 +78,7 @@ struct Outcome {
 };
 
 // The first failed worker's error in the scenario's order, thrown.
-[[noreturn]] void rethrow(const sim::Scenario& s, const std::map<std::size_t, Outcome>& failed, const ScratchFolder& scratch) {
+[[noreturn]] void rethrow(const scenario::Scenario& s, const std::map<std::size_t, Outcome>& failed, const ScratchFolder& scratch) {
   const auto& [k, out] = *failed.begin();
   const std::string variant = s.variants[k].name;
   if (out.status == -1)
@@ -92,8 +92,8 @@ struct Outcome {
 
 }  // namespace
 
-std::vector<sim::VariantResult> run_variants_in_processes(const sim::Scenario& s, const sim::ScenarioRunOptions& o, int jobs) {
-  sim::build_controllers(s);  // compiled once, here: the workers inherit the loaded objects
+std::vector<sim::VariantResult> run_variants_in_processes(const scenario::Scenario& s, const scenario::ScenarioRunOptions& o, int jobs) {
+  scenario::build_controllers(s);  // compiled once, here: the workers inherit the loaded objects
   ScratchFolder scratch;
   double total = 0, done = 0;
   for (const auto& v : s.variants) total += o.duration_s.value_or(v.duration_s);
@@ -130,7 +130,7 @@ std::vector<sim::VariantResult> run_variants_in_processes(const sim::Scenario& s
   }
   if (!failed.empty()) rethrow(s, failed, scratch);
   std::vector<sim::VariantResult> runs;
-  for (std::size_t k = 0; k < s.variants.size(); ++k) runs.push_back(sim::read_part(s, s.variants[k], scratch.part(k)));
+  for (std::size_t k = 0; k < s.variants.size(); ++k) runs.push_back(scenario::read_part(s, s.variants[k], scratch.part(k)));
   return runs;
 }
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "dmbd/sim/run_directory.hpp"
+#include "dmbd/scenario/run_directory.hpp"
 
 namespace dmbd::apps {
 
@@ -18,6 +18,6 @@ namespace dmbd::apps {
 // failed variant in the scenario's order is thrown again here: an InputError with the
 // worker's message (the one a single process would print), anything else as an internal
 // error. The temporary folder is removed in every case.
-std::vector<sim::VariantResult> run_variants_in_processes(const sim::Scenario& s, const sim::ScenarioRunOptions& o, int jobs);
+std::vector<sim::VariantResult> run_variants_in_processes(const scenario::Scenario& s, const scenario::ScenarioRunOptions& o, int jobs);
 
 }  // namespace dmbd::apps

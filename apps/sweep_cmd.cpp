@@ -33,7 +33,7 @@ int SweepCommand::run() { return plan_->parsed() ? plan() : collect(); }
 int SweepCommand::plan() const {
   if (!duration_text_.empty()) parse_duration(duration_text_);
   const std::string dmbd = dmbd_.empty() ? fs::read_symlink("/proc/self/exe").string() : dmbd_;
-  const sim::Scenario s = sim::load_scenario(scenario_);
+  const scenario::Scenario s = scenario::load_scenario(scenario_);
   const SweepPlan p = write_sweep_plan(s, plan_out_, dmbd, duration_text_);
   const std::string& d = plan_out_;
   std::cout << fmt::format("planned {} jobs of {} in {} (one per variant; each runs {})\n", p.jobs.size(), s.file, d, dmbd);
@@ -47,7 +47,7 @@ int SweepCommand::plan() const {
 
 int SweepCommand::collect() const {
   const std::string out = collect_out_.empty() ? (fs::path(dir_) / "run").string() : collect_out_;
-  const sim::ScenarioRun r = collect_sweep(dir_, out);
+  const scenario::ScenarioRun r = collect_sweep(dir_, out);
   print_run_directory(r, out);
   report::ReportOptions ro;
   ro.frames = !no_frames_;

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "dmbd/base/error.hpp"
-#include "dmbd/sim/run_parts.hpp"
+#include "dmbd/scenario/run_parts.hpp"
 #include "sweep_plan.hpp"
 
 namespace dmbd::apps {
@@ -15,7 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // The plan's jobs must be the scenario's variants, in order.
-void check_jobs(const sim::Scenario& s, const SweepPlan& p, const std::string& dir) {
+void check_jobs(const scenario::Scenario& s, const SweepPlan& p, const std::string& dir) {
   bool same = p.jobs.size() == s.variants.size();
   for (std::size_t k = 0; same && k < p.jobs.size(); ++k) same = p.jobs[k].variant == s.variants[k].name;
   if (!same)
@@ -38,14 +38,14 @@ void check_finished(const SweepPlan& p, const std::string& dir) {
 
 }  // namespace
 
-sim::ScenarioRun collect_sweep(const std::string& dir, const std::string& out) {
+scenario::ScenarioRun collect_sweep(const std::string& dir, const std::string& out) {
   const SweepPlan p = read_sweep_plan(dir);
-  const sim::Scenario s = sim::load_scenario((fs::path(dir) / p.scenario).string());
+  const scenario::Scenario s = scenario::load_scenario((fs::path(dir) / p.scenario).string());
   check_jobs(s, p, dir);
   check_finished(p, dir);
   std::vector<sim::VariantResult> runs;
-  for (std::size_t k = 0; k < p.jobs.size(); ++k) runs.push_back(sim::read_part(s, s.variants[k], (fs::path(dir) / p.jobs[k].part).string()));
-  return sim::write_run(s, std::move(runs), out);
+  for (std::size_t k = 0; k < p.jobs.size(); ++k) runs.push_back(scenario::read_part(s, s.variants[k], (fs::path(dir) / p.jobs[k].part).string()));
+  return scenario::write_run(s, std::move(runs), out);
 }
 
 }  // namespace dmbd::apps

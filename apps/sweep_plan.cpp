@@ -7,7 +7,7 @@
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/file.hpp"
-#include "dmbd/sim/scenario_files.hpp"
+#include "dmbd/scenario/scenario_files.hpp"
 
 namespace dmbd::apps {
 
@@ -31,8 +31,8 @@ fs::path common_folder(const std::vector<std::string>& files) {
 
 // The files copied under DIR/scenario/ with their places relative to their common folder
 // kept (so relative references between them still hold); the scenario's copy returned.
-std::string copy_scenario(const sim::Scenario& s, const fs::path& dir) {
-  const std::vector<std::string> files = sim::scenario_files(s);
+std::string copy_scenario(const scenario::Scenario& s, const fs::path& dir) {
+  const std::vector<std::string> files = scenario::scenario_files(s);
   const fs::path root = common_folder(files);
   for (const auto& f : files) {
     const fs::path to = dir / "scenario" / fs::path(f).lexically_relative(root);
@@ -52,7 +52,7 @@ std::string jobs_text(const SweepPlan& p, const std::string& dmbd, const std::st
   return text;
 }
 
-std::string sbatch_text(const sim::Scenario& s, std::size_t n) {
+std::string sbatch_text(const scenario::Scenario& s, std::size_t n) {
   return fmt::format(R"(#!/bin/bash
 # A Slurm job array: task K runs line K of jobs.txt (one variant of {}).
 # Submit from this folder: sbatch slurm.sbatch; then: dmbd sweep collect .
@@ -69,7 +69,7 @@ eval "$job"
                      s.name, s.name, n);
 }
 
-std::string readme_text(const sim::Scenario& s, const SweepPlan& p, const std::string& dmbd) {
+std::string readme_text(const scenario::Scenario& s, const SweepPlan& p, const std::string& dmbd) {
   return fmt::format(R"(A sweep of the scenario '{}': {} jobs, one per variant (dmbd sweep plan; docs/sweeps.md).
 
   scenario/     the scenario and every file it reads, copied (relative places kept)
@@ -96,7 +96,7 @@ A job that failed or did not run is named by collect; run its line of jobs.txt a
                      s.name, p.jobs.size(), dmbd);
 }
 
-nlohmann::json plan_json(const sim::Scenario& s, const SweepPlan& p) {
+nlohmann::json plan_json(const scenario::Scenario& s, const SweepPlan& p) {
   nlohmann::json j = {{"scenario", p.scenario}, {"scenario_name", s.name}, {"jobs", nlohmann::json::array()}};
   for (const auto& job : p.jobs) j["jobs"].push_back({{"variant", job.variant}, {"part", job.part}});
   return j;
@@ -111,7 +111,7 @@ void check_empty(const fs::path& dir) {
 
 }  // namespace
 
-SweepPlan write_sweep_plan(const sim::Scenario& s, const std::string& dir, const std::string& dmbd, const std::string& duration_text) {
+SweepPlan write_sweep_plan(const scenario::Scenario& s, const std::string& dir, const std::string& dmbd, const std::string& duration_text) {
   const fs::path out = fs::path(dir).lexically_normal(), tmp = out.string() + ".tmp";
   check_empty(out);
   std::error_code ec;

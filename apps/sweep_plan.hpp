@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "dmbd/sim/scenario.hpp"
+#include "dmbd/scenario/scenario.hpp"
 
 namespace dmbd::apps {
 
@@ -27,7 +27,7 @@ struct SweepPlan {
 // README.txt, plan.json and an empty parts/. DIR must not exist or be empty; everything
 // is written into DIR.tmp and renamed, so a failure leaves no half plan. Throws
 // OutputError for a folder that cannot be written or a DIR that is not empty.
-SweepPlan write_sweep_plan(const sim::Scenario& s, const std::string& dir, const std::string& dmbd,
+SweepPlan write_sweep_plan(const scenario::Scenario& s, const std::string& dir, const std::string& dmbd,
                            const std::string& duration_text);
 
 // DIR/plan.json read back. Throws InputError naming the file when it is missing or

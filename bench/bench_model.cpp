@@ -20,18 +20,18 @@ namespace {
 using namespace dmbd::model;
 
 const RobotDescription& draco() {
-  static const RobotDescription r = load_urdf(DMBD_DRACO_DIR "/draco.urdf");
+  static const RobotDescription r = load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
   return r;
 }
 
 void BM_LoadUrdfWithMeshes(benchmark::State& st) {
-  for (auto _ : st) benchmark::DoNotOptimize(load_urdf(DMBD_DRACO_DIR "/draco.urdf"));
+  for (auto _ : st) benchmark::DoNotOptimize(load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf"));
 }
 BENCHMARK(BM_LoadUrdfWithMeshes)->Unit(benchmark::kMillisecond);
 
 void BM_BuildPlantWithActuators(benchmark::State& st) {
   PlantOptions o;
-  o.actuators = draco_actuators();
+  o.actuators = load_actuators(DMBD_ROBOTS_DIR "/draco/actuators.yaml");
   for (auto _ : st) {
     Plant p(draco(), o);
     benchmark::DoNotOptimize(p.total_mass_kg());
@@ -115,7 +115,7 @@ BENCHMARK(BM_StandingJointPD)->Arg(0)->Arg(1)->ArgName("fixed")->Unit(benchmark:
 
 void BM_StandingActuators(benchmark::State& st) {
   PlantOptions o;
-  o.actuators = draco_actuators();
+  o.actuators = load_actuators(DMBD_ROBOTS_DIR "/draco/actuators.yaml");
   Plant p(draco(), with_mode(o, static_cast<int>(st.range(0))));
   const Eigen::VectorXd q0 = Eigen::VectorXd::Zero(p.num_joints());
   Eigen::VectorXd cur(p.num_actuators());

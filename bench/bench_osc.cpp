@@ -1,5 +1,5 @@
 // One evaluation of operational space control on DRACO fixed to the table (issue 14's
-// osc_tick_us): the model's terms at the state (sim::DynamicsModel over
+// osc_tick_us): the model's terms at the state (control::DynamicsModel over
 // model::RobotDynamics), the point and posture tasks, and the law with its null-space
 // posture (wholebody::OperationalSpaceControl), allocation-free.
 // Anchors in the same run: the dynamics terms alone (the floor under any OSC), and the
@@ -10,7 +10,7 @@
 #include <Eigen/Dense>
 
 #include "dmbd/model/robot_description.hpp"
-#include "dmbd/sim/dynamics_model.hpp"
+#include "dmbd/control/dynamics_model.hpp"
 #include "dmbd/wholebody/osc.hpp"
 #include "dmbd/wholebody/task.hpp"
 
@@ -19,7 +19,7 @@ namespace {
 using namespace dmbd;
 
 struct Table {
-  sim::DynamicsModel model;
+  control::DynamicsModel model;
   wholebody::ModelData data;
   wholebody::PointTask task;
   wholebody::PostureTask posture;
@@ -38,7 +38,7 @@ struct Table {
     return j;
   }
   Table()
-      : model(model::load_urdf(DMBD_DRACO_DIR "/draco.urdf"), options()),
+      : model(model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf"), options()),
         task(model.add_frame({"l_foot", Eigen::Vector3d::Zero()}), model.layout().nv),
         posture(model.layout(), all(model.layout().nv)),
         osc(model.layout(), 3, model.layout().nv) {

@@ -5,19 +5,19 @@
 
 #include <string>
 
-#include "dmbd/sim/scenario.hpp"
+#include "dmbd/scenario/scenario.hpp"
 
 namespace {
 
 void scenario_rtf(benchmark::State& st, const std::string& name) {
-  const auto s = dmbd::sim::load_scenario(std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/" + name + ".yaml");
-  dmbd::sim::RunOptions o;
+  const auto s = dmbd::scenario::load_scenario(std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/" + name + ".yaml");
+  dmbd::scenario::RunOptions o;
   o.duration_s = 1.0;
   double sim = 0, wall = 0;
   long long steps = 0;
   for (auto _ : st) {
     for (const auto& v : s.variants) {
-      const auto r = dmbd::sim::run_variant(s, v, o);
+      const auto r = dmbd::scenario::run_variant(s, v, o);
       sim += 1.0;
       wall += r.wall_s;
       steps += r.integrator_steps;

@@ -34,12 +34,12 @@ using dmbd::model::ActuatorParams;
 using dmbd::model::RobotDescription;
 
 const RobotDescription& draco() {
-  static const RobotDescription r = dmbd::model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
+  static const RobotDescription r = dmbd::model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
   return r;
 }
 
 const std::vector<ActuatorParams>& actuators() {
-  static const std::vector<ActuatorParams> a = dmbd::model::draco_actuators();
+  static const std::vector<ActuatorParams> a = dmbd::model::load_actuators(DMBD_ROBOTS_DIR "/draco/actuators.yaml");
   return a;
 }
 

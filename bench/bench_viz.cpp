@@ -30,7 +30,7 @@ struct DracoFrames {
   dmbd::viz::Overlays overlays;
 
   DracoFrames()
-      : robot(dmbd::model::load_urdf(DMBD_DRACO_DIR "/draco.urdf")), scene(dmbd::report::scene_from_robot(robot)) {
+      : robot(dmbd::model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf")), scene(dmbd::report::scene_from_robot(robot)) {
     constexpr int kFrames = 60;
     const auto joint = [&](const char* name) { return robot.joint_index(name); };
     double lift = 0;

@@ -3,15 +3,15 @@
 // double-support phase from the two feet's contact null space (hip yaws → torso
 // orientation → torso position), and the whole-body QP (28 variables, 12 equalities,
 // 32 inequalities). Anchor in the same run: the model's terms alone. And the whole
-// controller tick (sim::BalanceController::step: state, phase, events, IK, QP, outputs)
+// controller tick (control::BalanceController::step: state, phase, events, IK, QP, outputs)
 // in double support and in the swing, with the motion-capture and the kinematic
 // estimators (the latter updates a second model: the estimator's).
 #include <benchmark/benchmark.h>
 
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/model/actuator.hpp"
-#include "dmbd/sim/balance_controller.hpp"
-#include "dmbd/sim/dynamics_model.hpp"
+#include "dmbd/control/balance_controller.hpp"
+#include "dmbd/control/dynamics_model.hpp"
 #include "dmbd/wholebody/prioritized_ik.hpp"
 #include "dmbd/wholebody/task.hpp"
 #include "dmbd/wholebody/wbc_qp.hpp"
@@ -21,8 +21,8 @@ namespace {
 using namespace dmbd;
 
 struct DoubleSupport {
-  model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
-  sim::DynamicsModel model{robot, model::DynamicsOptions{}};
+  model::RobotDescription robot = model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
+  control::DynamicsModel model{robot, model::DynamicsOptions{}};
   int left = model.add_frame({"l_foot", Eigen::Vector3d(0.015, 0, -0.044)});
   int right = model.add_frame({"r_foot", Eigen::Vector3d(0.015, 0, -0.044)});
   int torso = model.add_frame({"torso", Eigen::Vector3d::Zero()});
@@ -89,13 +89,13 @@ BENCHMARK(BM_WbcModelTermsOnly);
 // there (each tick advances the phase machine; the range keeps it in that phase by
 // starting over when it leaves).
 void BM_BalanceTick(benchmark::State& state) {
-  const model::RobotDescription robot = model::load_urdf(DMBD_DRACO_DIR "/draco.urdf");
-  sim::BalanceSetup setup;
-  setup.estimator = state.range(1) ? sim::BalanceEstimator::Kinematic : sim::BalanceEstimator::MotionCapture;
+  const model::RobotDescription robot = model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
+  control::BalanceSetup setup;
+  setup.estimator = state.range(1) ? control::BalanceEstimator::Kinematic : control::BalanceEstimator::MotionCapture;
   setup.phases.joint_move_s = setup.phases.body_lift_s = 0.05;
   setup.phases.body_lift_start_force_N = 300;
   if (state.range(2)) {  // the options balance.yaml sets (its weight shift aside)
-    setup.tvr_point = sim::TvrPoint::Torso;
+    setup.tvr_point = control::TvrPoint::Torso;
     setup.ik_base_weight = 1000;
     setup.swing_relative_to_torso = setup.swing_foot_level = setup.actuator_feedforward = true;
     setup.task_gains.torso = {200, 28};
@@ -109,10 +109,10 @@ void BM_BalanceTick(benchmark::State& state) {
   const std::vector<std::pair<std::string, double>> q0 = {
       {"l_hip_pitch", -0.9}, {"l_knee", 1.7}, {"l_ankle", -0.8}, {"r_hip_pitch", -0.9}, {"r_knee", 1.7}, {"r_ankle", -0.8}};
   auto make = [&] {
-    auto c = std::make_unique<sim::BalanceController>(robot, 9.81, model::draco_actuators(), q0, setup, 1);
+    auto c = std::make_unique<control::BalanceController>(robot, 9.81, dmbd::model::load_actuators(DMBD_ROBOTS_DIR "/draco/actuators.yaml"), q0, setup, 1);
     return c;
   };
-  std::unique_ptr<sim::BalanceController> c = make();
+  std::unique_ptr<control::BalanceController> c = make();
   std::vector<double> u(static_cast<size_t>(c->num_inputs()), 0.0), y(static_cast<size_t>(c->num_outputs()), 0.0);
   for (int k = 0; k < c->num_inputs(); ++k)
     for (const auto& [joint, angle] : q0)

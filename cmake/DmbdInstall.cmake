@@ -1,12 +1,12 @@
-# `cmake --install`: the libraries, their headers, the `dmbd` program, DRACO's robot
-# files, a CMake package (find_package(dmbd) giving dmbd::base, dmbd::blocks, … with
+# `cmake --install`: the libraries, their headers, the `dmbd` program, the robot
+# folders (robots/), a CMake package (find_package(dmbd) giving dmbd::base, dmbd::blocks, … with
 # their dependencies) and a pkg-config file (dmbd.pc). docs/library.md says how to use
 # them. Included from the top-level CMakeLists.txt after every module is defined.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 # Every library, in link order (a library before those it uses).
-set(DMBD_INSTALLED_MODULES report sim viz wholebody model codegen diagrams blocks base)
+set(DMBD_INSTALLED_MODULES report scenario experiments control sim viz wholebody model codegen diagrams blocks base)
 
 foreach(m IN LISTS DMBD_INSTALLED_MODULES)
   set(t dmbd_${m})
@@ -27,8 +27,8 @@ install(TARGETS ${DMBD_INSTALLED_TARGETS} EXPORT dmbdTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS dmbd RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(DIRECTORY ${CMAKE_SOURCE_DIR}/model/draco/ DESTINATION ${CMAKE_INSTALL_DATADIR}/dmbd/draco
-        PATTERN "make_draco.py" EXCLUDE)
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/robots/ DESTINATION ${CMAKE_INSTALL_DATADIR}/dmbd/robots
+        PATTERN "make_*.py" EXCLUDE)
 
 set(DMBD_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/dmbd)
 install(EXPORT dmbdTargets NAMESPACE dmbd:: DESTINATION ${DMBD_CMAKE_DIR})

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "dmbd/blocks/error.hpp"
-#include "dmbd/sim/scenario.hpp"
+#include "dmbd/scenario/scenario.hpp"
 
 namespace fs = std::filesystem;
 
@@ -47,7 +47,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
   try {
-    (void)dmbd::sim::load_scenario(path);
+    (void)dmbd::scenario::load_scenario(path);
   } catch (const dmbd::InputError&) {
   }
   return 0;

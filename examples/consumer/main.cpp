@@ -11,7 +11,7 @@
 #include "dmbd/blocks/transfer_function.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/linearize.hpp"
-#include "dmbd/model/draco_files.hpp"
+#include "dmbd/model/robot_folder.hpp"
 #include "dmbd/model/robot_description.hpp"
 
 namespace b = dmbd::blocks;
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
     std::printf("%s -> %s: order %d, dc gain %.6g\n", argv[2], argv[3], static_cast<int>(sys.poles().size()),
                 sys.to_tf().dc_gain().value_or(0.0));
 
-    const auto robot = dmbd::model::load_urdf(dmbd::model::draco_dir() + "/draco.urdf");
+    const auto robot = dmbd::model::load_urdf(dmbd::model::find_robot("draco").urdf);
     std::printf("DRACO: %.3f kg\n", robot.total_mass_kg());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "consumer: %s\n", e.what());

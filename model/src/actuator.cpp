@@ -14,7 +14,6 @@
 #include "dmbd/base/file.hpp"
 #include "dmbd/base/number_text.hpp"
 #include "dmbd/base/yaml_reader.hpp"
-#include "dmbd/model/draco_files.hpp"
 #include "dmbd/model/error.hpp"
 
 namespace dmbd::model {
@@ -296,8 +295,5 @@ std::vector<ActuatorParams> load_actuators(const std::string& yaml_path, const N
   return Reader(yaml_path, numbers).run(bytes);
 }
 
-std::vector<ActuatorParams> draco_actuators(const NumberParser& numbers) {
-  return load_actuators(draco_dir() + "/actuators.yaml", numbers);
-}
 
 }  // namespace dmbd::model

@@ -41,7 +41,7 @@ std::string to_path(const py::handle& path);
 py::object optional_float(const std::optional<double>& v);
 
 // A JSON document as dicts, lists, str, int, float, bool and None. With
-// `nonfinite_numbers`, the strings "inf", "-inf" and "NaN" (what sim::finite_json writes
+// `nonfinite_numbers`, the strings "inf", "-inf" and "NaN" (what scenario::finite_json writes
 // for those numbers, JSON having none) become the floats again.
 py::object to_python(const nlohmann::json& j, bool nonfinite_numbers = false);
 

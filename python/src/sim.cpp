@@ -11,8 +11,8 @@
 #include <optional>
 
 #include "dmbd/base/error.hpp"
-#include "dmbd/sim/run_directory.hpp"
-#include "dmbd/sim/scenario.hpp"
+#include "dmbd/scenario/run_directory.hpp"
+#include "dmbd/scenario/scenario.hpp"
 
 namespace dmbd::python {
 
@@ -22,7 +22,7 @@ using namespace pybind11::literals;
 namespace {
 
 struct ScenarioResult {
-  sim::ScenarioRun run;
+  scenario::ScenarioRun run;
   std::optional<std::string> out_dir;  // none: a temporary folder, removed
 
   const sim::VariantResult& variant(const py::object& name) const {
@@ -52,7 +52,7 @@ std::string temporary_folder() {
 
 ScenarioResult run(const py::object& path, const py::object& duration_s, const py::object& out_dir) {
   const std::string file = to_path(path);
-  sim::ScenarioRunOptions o;
+  scenario::ScenarioRunOptions o;
   if (!duration_s.is_none()) {
     o.duration_s = duration_s.cast<double>();
     if (!(*o.duration_s > 0.0) || !std::isfinite(*o.duration_s))
@@ -63,7 +63,7 @@ ScenarioResult run(const py::object& path, const py::object& duration_s, const p
   const std::string dir = r.out_dir ? *r.out_dir : temporary_folder();
   try {
     py::gil_scoped_release release;  // minutes of simulation: other Python threads run meanwhile
-    r.run = sim::run_scenario(sim::load_scenario(file), dir, o);
+    r.run = scenario::run_scenario(scenario::load_scenario(file), dir, o);
   } catch (...) {
     if (!r.out_dir) {
       std::error_code ec;

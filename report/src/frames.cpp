@@ -1,8 +1,8 @@
 // The frame variant drawn from its log: the joints' logged angles through the robot's
 // forward kinematics, the logged base pose for a floating robot, the logged contact
-// forces as arrows, the centre of mass from the description's masses, the operational
-// space controller's desired and measured point as paths when it was logged, and a
-// table under a fixed base.
+// forces as arrows, the centre of mass from the description's masses, the paths the
+// variant's bus controllers and experiment declare (when logged), and a table under a
+// fixed base.
 #include "frames.hpp"
 
 #include <algorithm>
@@ -19,6 +19,7 @@
 #include "dmbd/base/file.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/report/robot_scene.hpp"
+#include "dmbd/scenario/evaluate.hpp"
 #include "dmbd/viz/plot.hpp"
 #include "dmbd/viz/primitives.hpp"
 #include "dmbd/viz/renderer.hpp"
@@ -42,19 +43,21 @@ struct PoseColumns {
     int force;  // "contact.K.fx" (then fy, fz), or -1
   };
   std::vector<Sphere> spheres;
-  // The operational space controller's point (sim's OscController, world, m): "osc.x_d",
-  // "osc.y_d", "osc.z_d" (desired), "osc.x", "osc.y", "osc.z" (measured); drawn only when
-  // all six were logged.
-  std::array<int, 6> osc{-1, -1, -1, -1, -1, -1};
-  bool has_osc() const { return std::all_of(osc.begin(), osc.end(), [](int k) { return k >= 0; }); }
+  // The paths the variant's bus controllers and experiment declare (sim::Overlay), each
+  // with the columns of its three signals; drawn only when all three were logged.
+  struct Path {
+    sim::Overlay overlay;
+    std::array<int, 3> column;
+  };
+  std::vector<Path> paths;
 };
 
 bool one_dof(model::JointType t) {
   return t == model::JointType::Revolute || t == model::JointType::Continuous || t == model::JointType::Prismatic;
 }
 
-PoseColumns pose_columns(const model::RobotDescription& robot, const sim::VariantResult& r, const sim::VariantSetup& v,
-                         const std::string& file) {
+PoseColumns pose_columns(const model::RobotDescription& robot, const sim::VariantResult& r, const scenario::VariantSetup& v,
+                         const std::vector<sim::Overlay>& overlays, const std::string& file) {
   PoseColumns c;
   for (const auto& j : robot.joints) {
     c.joint.push_back(one_dof(j.type) ? r.log.find(j.name + ".q") : -1);
@@ -66,8 +69,10 @@ PoseColumns pose_columns(const model::RobotDescription& robot, const sim::Varian
     c.base = r.log.find("base.x");
     if (c.base < 0) throw InputError(file + ": variant '" + r.name + "' logged no 'base.x': its frames cannot be drawn");
   }
-  const char* osc_names[6] = {"osc.x_d", "osc.y_d", "osc.z_d", "osc.x", "osc.y", "osc.z"};
-  for (int i = 0; i < 6; ++i) c.osc[static_cast<std::size_t>(i)] = r.log.find(osc_names[i]);
+  for (const sim::Overlay& o : overlays) {
+    const std::array<int, 3> col{r.log.find(o.signals[0]), r.log.find(o.signals[1]), r.log.find(o.signals[2])};
+    if (std::all_of(col.begin(), col.end(), [](int k) { return k >= 0; })) c.paths.push_back({o, col});
+  }
   int k = 0;
   for (std::size_t l = 0; l < robot.links.size(); ++l)
     for (const auto& sh : robot.links[l].collisions)
@@ -99,39 +104,29 @@ std::vector<Eigen::Isometry3d> link_poses(const model::RobotDescription& robot, 
   return model::link_frames(robot, q, base_pose(log, c, row));
 }
 
-// The controlled point's path over the last kPathWindow_s of the run up to the frame's
-// sample (that sample included): long enough to show a whole period of the shipped
-// trajectories (1.4 Hz and 0.5 Hz: 0.7 s and 2 s), short enough that the trace does not
-// pile up over a long run. Samples that are not finite (none logged yet) break the line.
-constexpr double kPathWindow_s = 2.0;
-const viz::Color kDesiredColor{0, 190, 255}, kMeasuredColor{255, 40, 200};
-
-void add_osc_paths(const sim::Log& log, const PoseColumns& c, std::size_t row, viz::Overlays& o) {
-  if (!c.has_osc()) return;
+// Each declared path over the last window_s of the run up to the frame's sample (that
+// sample included), in the order declared (a later one is drawn over an earlier one).
+// Samples that are not finite (none logged yet) break the line.
+void add_paths(const sim::Log& log, const PoseColumns& c, std::size_t row, viz::Overlays& o) {
   const std::vector<double>& t = log.time();
-  const auto first = static_cast<std::size_t>(
-      std::lower_bound(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(row), t[row] - kPathWindow_s) - t.begin());
-  viz::PathOverlay desired, measured;
-  desired.color = kDesiredColor;
-  desired.dashed = true;
-  desired.label = "desired";
-  measured.color = kMeasuredColor;
-  measured.label = "measured";
-  for (std::size_t i = first; i <= row; ++i) {
-    desired.points_W.emplace_back(at(log, c.osc[0], i), at(log, c.osc[1], i), at(log, c.osc[2], i));
-    measured.points_W.emplace_back(at(log, c.osc[3], i), at(log, c.osc[4], i), at(log, c.osc[5], i));
+  for (const auto& p : c.paths) {
+    const auto first = static_cast<std::size_t>(
+        std::lower_bound(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(row), t[row] - p.overlay.window_s) - t.begin());
+    viz::PathOverlay path;
+    path.color = viz::Color{p.overlay.rgb[0], p.overlay.rgb[1], p.overlay.rgb[2]};
+    path.dashed = p.overlay.dashed;
+    path.label = p.overlay.label;
+    for (std::size_t i = first; i <= row; ++i)
+      path.points_W.emplace_back(at(log, p.column[0], i), at(log, p.column[1], i), at(log, p.column[2], i));
+    o.paths.push_back(std::move(path));
   }
-  // The measured path under the desired one: where they coincide, the measured colour
-  // shows between the desired path's dashes.
-  o.paths.push_back(std::move(measured));
-  o.paths.push_back(std::move(desired));
 }
 
 viz::Overlays overlays(const model::RobotDescription& robot, const sim::Log& log, const PoseColumns& c, std::size_t row,
                        const std::vector<Eigen::Isometry3d>& X, const std::string& title) {
   viz::Overlays o;
   o.text_lines = {title, fmt::format("t = {:.3f} s", log.time()[row])};
-  add_osc_paths(log, c, row, o);
+  add_paths(log, c, row, o);
   o.com_W = model::center_of_mass(robot, X);
   for (const auto& s : c.spheres) {
     if (s.force < 0) continue;
@@ -214,7 +209,7 @@ Table table_under(const viz::Scene& robot_scene, const std::vector<Eigen::Isomet
 
 // A three-quarter view from the front left that frames the robot's bounds, unless the
 // scenario or the options give the camera.
-viz::Camera make_camera(const sim::FrameSetup& f, const ReportOptions& o, const viz::Scene& scene,
+viz::Camera make_camera(const scenario::FrameSetup& f, const ReportOptions& o, const viz::Scene& scene,
                         const std::vector<Eigen::Isometry3d>& X, int w, int h) {
   viz::Camera cam;
   cam.width_px = w;
@@ -240,7 +235,7 @@ struct Step {
   std::size_t n = 1;
   double video_fps = 30, speedup = 1;
 };
-Step row_step(const sim::Log& log, const sim::FrameSetup& f) {
+Step row_step(const sim::Log& log, const scenario::FrameSetup& f) {
   Step st;
   const std::size_t rows = log.rows();
   if (rows < 2) return st;
@@ -258,17 +253,17 @@ Step row_step(const sim::Log& log, const sim::FrameSetup& f) {
 
 }  // namespace
 
-Frames write_frames(const sim::ScenarioRun& run, const std::string& dir, const ReportOptions& options) {
-  const sim::Scenario& s = run.scenario;
+Frames write_frames(const scenario::ScenarioRun& run, const std::string& dir, const ReportOptions& options) {
+  const scenario::Scenario& s = run.scenario;
   Frames out;
   out.variant = s.frames.variant.empty() ? run.runs.front().name : s.frames.variant;
   const auto r = std::find_if(run.runs.begin(), run.runs.end(), [&](const auto& x) { return x.name == out.variant; });
   const auto v = std::find_if(s.variants.begin(), s.variants.end(), [&](const auto& x) { return x.name == out.variant; });
   if (r == run.runs.end() || v == s.variants.end() || r->log.rows() == 0) return out;
-  const model::RobotDescription robot = sim::variant_plant(s, *v).robot;
+  const model::RobotDescription robot = scenario::variant_plant(s, *v).robot;
   for (const auto& m : robot.meshes_missing)
     out.warnings.push_back(fmt::format("{}: mesh '{}' could not be read: the frames draw the robot without it", robot.source, m));
-  const PoseColumns cols = pose_columns(robot, *r, *v, s.file);
+  const PoseColumns cols = pose_columns(robot, *r, *v, scenario::variant_overlays(s, *v), s.file);
   const int w = options.width_px.value_or(s.frames.width_px), h = options.height_px.value_or(s.frames.height_px);
   const viz::Scene scene = scene_from_robot(robot);
   // A fixed base stands on a table: one more scene body, after the links. The camera

@@ -19,6 +19,6 @@ struct Frames {
 
 // Frames at every n-th logged row, n chosen so the video plays in real time at about
 // the scenario's fps (a time-lapse of at most max_frames frames for long runs).
-Frames write_frames(const sim::ScenarioRun& run, const std::string& dir, const ReportOptions& options);
+Frames write_frames(const scenario::ScenarioRun& run, const std::string& dir, const ReportOptions& options);
 
 }  // namespace dmbd::report::detail

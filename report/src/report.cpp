@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/model/robot_description.hpp"
 #include "dmbd/viz/plot.hpp"
 #include "dmbd/viz/report.hpp"
 #include "frames.hpp"
@@ -22,12 +23,21 @@ void make_dir(const fs::path& d) {
   if (ec || !fs::is_directory(d)) throw OutputError("cannot create the folder '" + d.string() + "': " + (ec ? ec.message() : "a file is in the way"));
 }
 
-std::vector<std::pair<std::string, std::string>> summary(const sim::ScenarioRun& run) {
-  const sim::Scenario& s = run.scenario;
-  const sim::VariantSetup& v0 = s.variants.front();
+// The robot as the report names it: its folder's name for it and the URDF's path, or the
+// URDF's own robot name and path.
+std::string robot_name(const scenario::RobotSetup& r) {
+  if (r.folder) return r.folder->display_name + " (" + r.folder->name + ": " + r.urdf + ")";
+  model::UrdfOptions quick;
+  quick.load_meshes = false;
+  return model::load_urdf(r.urdf, quick).name + " (" + r.urdf + ")";
+}
+
+std::vector<std::pair<std::string, std::string>> summary(const scenario::ScenarioRun& run) {
+  const scenario::Scenario& s = run.scenario;
+  const scenario::VariantSetup& v0 = s.variants.front();
   std::vector<std::pair<std::string, std::string>> out;
   out.emplace_back("scenario file", fs::path(s.file).filename().string());
-  out.emplace_back("robot", v0.robot.urdf == "draco" ? "DRACO (model/draco/draco.urdf)" : v0.robot.urdf);
+  out.emplace_back("robot", robot_name(v0.robot));
   out.emplace_back("base", v0.robot.base == model::BaseMode::Fixed ? "fixed to the table" : "floating, on the ground");
   std::string names;
   for (const auto& r : run.runs) names += (names.empty() ? "" : ", ") + r.name;
@@ -56,7 +66,7 @@ void add_video(viz::Report& rep, const detail::Frames& f, std::vector<std::strin
 
 }  // namespace
 
-ReportResult write_report(const sim::ScenarioRun& run, const std::string& dir, const ReportOptions& options) {
+ReportResult write_report(const scenario::ScenarioRun& run, const std::string& dir, const ReportOptions& options) {
   const fs::path d(dir);
   make_dir(d / "plots");
   ReportResult res;
@@ -64,7 +74,7 @@ ReportResult write_report(const sim::ScenarioRun& run, const std::string& dir, c
   rep.title = run.scenario.name;
   rep.description = run.scenario.description;
   rep.summary = summary(run);
-  rep.metrics = sim::finite_json(run.experiment.metrics);
+  rep.metrics = scenario::finite_json(run.experiment.metrics);
   for (const auto& [file, fig] : run.experiment.figures) {
     viz::Figure(fig).save_png((d / "plots" / file).string());
     res.files.push_back("plots/" + file);

@@ -1,5 +1,5 @@
 // Compiling C++ source into a shared object at run time and loading it (sil_build.hpp).
-#include "sil_build.hpp"
+#include "dmbd/sim/shared_object.hpp"
 
 #include <dlfcn.h>
 #include <unistd.h>

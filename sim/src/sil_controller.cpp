@@ -1,6 +1,6 @@
 // Software in the loop: a loop program's generated code compiled, loaded and run as a
 // sim::Controller (sil_controller.hpp).
-#include "sil_controller.hpp"
+#include "dmbd/sim/generated_controller.hpp"
 
 #include <stdexcept>
 

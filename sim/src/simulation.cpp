@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "event_grid.hpp"
+#include "dmbd/sim/event_grid.hpp"
 
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/model/error.hpp"

@@ -20,8 +20,8 @@ file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
 
 run("cmake --install" ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-foreach(f bin/dmbd include/dmbd/blocks/transfer_function.hpp lib/libdmbd_sim.a lib/cmake/dmbd/dmbdConfig.cmake
-          lib/pkgconfig/dmbd.pc share/dmbd/draco/draco.urdf share/dmbd/draco/actuators.yaml)
+foreach(f bin/dmbd include/dmbd/blocks/transfer_function.hpp lib/libdmbd_sim.a lib/libdmbd_scenario.a lib/cmake/dmbd/dmbdConfig.cmake
+          lib/pkgconfig/dmbd.pc share/dmbd/robots/draco/draco.urdf share/dmbd/robots/draco/actuators.yaml share/dmbd/robots/draco/robot.yaml)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "not installed: ${f}")
   endif()
@@ -31,7 +31,7 @@ endforeach()
 run("configure examples/consumer" ${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/consumer -B ${WORK_DIR}/consumer
     -G ${GENERATOR} -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_PREFIX_PATH=${prefix})
 run("build examples/consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/consumer)
-run("run the consumer" ${CMAKE_COMMAND} -E env DMBD_DRACO_DIR=${prefix}/share/dmbd/draco
+run("run the consumer" ${CMAKE_COMMAND} -E env DMBD_ROBOT_PATH=${prefix}/share/dmbd/robots
     ${WORK_DIR}/consumer/consumer ${SOURCE_DIR}/examples/diagrams/force_dob.yaml F_d F)
 # (20 + 2s) / (s (s + 4)) closed: s² + 6s + 20, poles −3 ± j√11.
 expect("${run_output}" "closed-loop pole -3\\.000000 \\+3\\.316625j")

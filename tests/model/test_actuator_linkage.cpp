@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "robot_files.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/error.hpp"
 
@@ -114,7 +115,7 @@ TEST(Linkage, VirtualWorkTorqueTimesAngleEqualsForceTimesTravel) {
 // (the O(h^4) interior error). Bounds: 1e-4 overall, 1e-8 away from the ends; the end
 // error falls as h^2 - checked by doubling the samples.
 TEST(LinkageTable, InterpolatesTheExactNlOnAFineGrid) {
-  const auto acts = dm::draco_actuators();
+  const auto acts = dmbd::test::draco_actuators();
   double worst = 0, worst_inner = 0;
   std::string worst_joint;
   for (const auto& a : acts) {
@@ -180,7 +181,7 @@ TEST(LinkageTable, RejectsSingularRangesAndBadArguments) {
 // DRACO's linkages over this project's joint ranges: travel (facts: roughly 0.09-0.15 m),
 // moment arms, distance from the singular configurations, and the mirror symmetry.
 TEST(DracoLinkage, TravelMomentArmAndMarginOverEachJointRange) {
-  const auto acts = dm::draco_actuators();
+  const auto acts = dmbd::test::draco_actuators();
   ASSERT_EQ(acts.size(), 10u);
   for (const auto& a : acts) {
     const auto [lo, hi] = draco_ranges().at(a.joint);
@@ -217,7 +218,7 @@ TEST(DracoLinkage, TravelMomentArmAndMarginOverEachJointRange) {
 }
 
 TEST(DracoLinkage, RightLegMirrorsTheLeft) {
-  const auto acts = dm::draco_actuators();
+  const auto acts = dmbd::test::draco_actuators();
   auto find = [&](const std::string& j) -> const dm::ActuatorParams& {
     auto it = std::find_if(acts.begin(), acts.end(), [&](const dm::ActuatorParams& p) { return p.joint == j; });
     EXPECT_NE(it, acts.end()) << j;

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "robot_files.hpp"
 #include "dmbd/blocks/transfer_function.hpp"
 #include "dmbd/model/actuator.hpp"
 
@@ -26,7 +27,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 std::map<std::string, dm::ActuatorParams> by_joint() {
   std::map<std::string, dm::ActuatorParams> m;
-  for (const auto& a : dm::draco_actuators()) m[a.joint] = a;
+  for (const auto& a : dmbd::test::draco_actuators()) m[a.joint] = a;
   return m;
 }
 
@@ -98,7 +99,7 @@ db::TransferFunction p_inf(const dm::ActuatorParams& p) {
 }  // namespace
 
 TEST(DracoActuators, TenJointsWithTheirKinds) {
-  const auto acts = dm::draco_actuators();
+  const auto acts = dmbd::test::draco_actuators();
   ASSERT_EQ(acts.size(), 10u);
   const std::vector<std::string> expected = {"l_hip_yaw", "l_hip_roll", "l_hip_pitch", "l_knee", "l_ankle",
                                              "r_hip_yaw", "r_hip_roll", "r_hip_pitch", "r_knee", "r_ankle"};

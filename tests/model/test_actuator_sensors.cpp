@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "robot_files.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/sensors.hpp"
@@ -53,7 +54,7 @@ TEST(Encoder, ExactCountsForKnownPositionsIncludingNegative) {
 // Read-back error: 0 <= position - read < one count (plus rounding of the product, a few
 // ulp of the position), over random positions of both signs, for DRACO's encoders.
 TEST(Encoder, QuantisationErrorWithinOneCount) {
-  const dm::ActuatorParams knee = dm::draco_actuators()[3];
+  const dm::ActuatorParams knee = dmbd::test::draco_actuators()[3];
   ASSERT_EQ(knee.joint, "l_knee");
   std::mt19937_64 rng(7);
   for (const dm::EncoderParams& p : {knee.motor_encoder, knee.spring_encoder}) {
@@ -79,7 +80,7 @@ TEST(Encoder, QuantisationErrorWithinOneCount) {
 // ---- Potentiometer ---------------------------------------------------------------------
 
 namespace {
-dm::PotentiometerParams knee_pot() { return dm::draco_actuators()[3].potentiometer; }
+dm::PotentiometerParams knee_pot() { return dmbd::test::draco_actuators()[3].potentiometer; }
 }  // namespace
 
 TEST(Potentiometer, SameSeedSameSequenceDifferentSeedsDiffer) {

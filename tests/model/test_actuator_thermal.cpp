@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "robot_files.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/thermal.hpp"
@@ -20,7 +21,7 @@ namespace dm = dmbd::model;
 namespace {
 
 dm::ThermalParams knee_thermal() {
-  for (const auto& a : dm::draco_actuators())
+  for (const auto& a : dmbd::test::draco_actuators())
     if (a.joint == "l_knee") return a.thermal;
   ADD_FAILURE() << "no l_knee";
   return {};
@@ -158,7 +159,7 @@ TEST(Thermal, EnergyBalance) {
 // is sqrt((R_wh + R_ha_air) / (R_wh + R_ha_liquid)) with no approximation; every joint's
 // R_ha_liquid is the one liquid_resistance_for_current_gain derives. 1e-9 relative.
 TEST(Thermal, LiquidCoolingRaisesContinuousCurrentExactly2_5x) {
-  for (const auto& a : dm::draco_actuators()) {
+  for (const auto& a : dmbd::test::draco_actuators()) {
     const dm::ThermalModel m(a.thermal);
     const double ratio = m.continuous_current_A(true) / m.continuous_current_A(false);
     EXPECT_NEAR(ratio, 2.5, 2.5e-9) << a.joint;
@@ -187,7 +188,7 @@ TEST(Thermal, LiquidCoolingRaisesContinuousCurrentExactly2_5x) {
 // Winding time constant tens of seconds, housing several minutes (uncooled); cooling
 // shortens the housing's to under a minute.
 TEST(Thermal, TimeConstantsArePlausible) {
-  for (const auto& a : dm::draco_actuators()) {
+  for (const auto& a : dmbd::test::draco_actuators()) {
     const dm::ThermalModel m(a.thermal);
     const dm::ThermalTimeConstants air = m.time_constants_s(false), liq = m.time_constants_s(true);
     if (a.joint[0] == 'l')

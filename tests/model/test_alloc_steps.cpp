@@ -2,6 +2,7 @@
 // after warm-up (issue 12). The C allocator is interposed in this executable to
 // count allocations (malloc, calloc, realloc: what operator new, Eigen and Simbody all
 // use). Simbody's calcM, for one, allocates 52 blocks a call, which this test would catch.
+#include "robot_files.hpp"
 #include "dmbd/model/dynamics.hpp"
 #include "dmbd/model/plant.hpp"
 
@@ -16,14 +17,14 @@ namespace dmbd::model {
 namespace {
 
 const RobotDescription& draco() {
-  static const RobotDescription r = load_urdf(DMBD_DRACO_DIR "/draco.urdf", UrdfOptions{{}, false, false});
+  static const RobotDescription r = load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf", UrdfOptions{{}, false, false});
   return r;
 }
 
 TEST(NoAllocation, FixedStepOfTheRobotStandingOnItsActuators) {
   DMBD_SKIP_UNDER_ASAN();
   PlantOptions o;
-  o.actuators = draco_actuators();
+  o.actuators = dmbd::test::draco_actuators();
   o.integration = Integration::Fixed;
   o.step_s = 5e-4;
   Plant p(draco(), o);

@@ -9,6 +9,7 @@
 //   - the readings against LinkageGeometry and against each other (d/dt motor_angle);
 //   - the locked-output plant (q' = 0) against the raw parameters and docs/model.md's table.
 #include "actuator_terms.hpp"
+#include "robot_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,7 +24,7 @@ namespace dmbd::model::detail {
 namespace {
 
 const ActuatorParams& actuator(const std::string& joint) {
-  static const std::vector<ActuatorParams> table = draco_actuators();
+  static const std::vector<ActuatorParams> table = dmbd::test::draco_actuators();
   const auto it = std::find_if(table.begin(), table.end(), [&](const ActuatorParams& p) { return p.joint == joint; });
   if (it == table.end()) throw std::runtime_error("no actuator for " + joint);
   return *it;

@@ -15,7 +15,7 @@ namespace dmbd::model::detail {
 namespace {
 
 const RobotDescription& draco() {
-  static const RobotDescription r = load_urdf(DMBD_DRACO_DIR "/draco.urdf", UrdfOptions{{}, false, false});
+  static const RobotDescription r = load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf", UrdfOptions{{}, false, false});
   return r;
 }
 

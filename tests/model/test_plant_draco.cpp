@@ -1,6 +1,7 @@
 // DRACO in Simbody: the model built from model/draco/draco.urdf and actuators.yaml,
 // its gravity torques against an independent computation, energy conservation of the
 // free fixed-base robot, and standing on the ground.
+#include "robot_files.hpp"
 #include "dmbd/model/dynamics.hpp"
 #include "dmbd/model/plant.hpp"
 
@@ -16,7 +17,7 @@ namespace dmbd::model {
 namespace {
 
 const RobotDescription& draco() {
-  static const RobotDescription r = load_urdf(DMBD_DRACO_DIR "/draco.urdf");
+  static const RobotDescription r = load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
   return r;
 }
 
@@ -29,7 +30,7 @@ Eigen::VectorXd posture(int n) {
 
 TEST(PlantDraco, BuildsWithTheActuatorsAndKeepsTheMass) {
   PlantOptions o;
-  o.actuators = draco_actuators();
+  o.actuators = dmbd::test::draco_actuators();
   Plant p(draco(), o);
   EXPECT_EQ(p.num_joints(), 10);
   EXPECT_EQ(p.num_actuators(), 10);

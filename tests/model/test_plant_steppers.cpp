@@ -2,6 +2,7 @@
 // semi-implicit step against the error-controlled Dormand-Prince on the same equations,
 // for DRACO standing on its ten actuators and for a fixed-base leg swinging under them;
 // and the fixed step's energy behaviour with damping and contact off.
+#include "robot_files.hpp"
 #include "dmbd/model/plant.hpp"
 
 #include <gtest/gtest.h>
@@ -13,13 +14,13 @@ namespace dmbd::model {
 namespace {
 
 const RobotDescription& draco() {
-  static const RobotDescription r = load_urdf(DMBD_DRACO_DIR "/draco.urdf", UrdfOptions{{}, false, false});
+  static const RobotDescription r = load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf", UrdfOptions{{}, false, false});
   return r;
 }
 
 PlantOptions actuated(Integration mode) {
   PlantOptions o;
-  o.actuators = draco_actuators();
+  o.actuators = dmbd::test::draco_actuators();
   o.integration = mode;
   o.step_s = 5e-4;
   return o;

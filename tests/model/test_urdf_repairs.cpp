@@ -2,7 +2,7 @@
 // a hand-made inertia, a small URDF with a bad inertia and a massless moving link
 // (warnings and repairs; strict refuses naming the link), DRACO untouched, and
 // Simbody's Atlas example as Debian ships it.
-#include "dmbd/model/draco_files.hpp"
+#include "robot_files.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/inertia_repair.hpp"
 #include "dmbd/model/robot_description.hpp"
@@ -125,7 +125,7 @@ TEST(UrdfRepairs, StrictRefusesNamingTheLink) {
 TEST(UrdfRepairs, DracoNeedsNoRepair) {
   UrdfOptions o;
   o.strict = true;
-  const RobotDescription r = load_urdf(draco_dir() + "/draco.urdf", o);
+  const RobotDescription r = load_urdf(dmbd::test::draco_dir() + "/draco.urdf", o);
   EXPECT_TRUE(r.repairs.empty());
 }
 

@@ -25,7 +25,7 @@ const RobotDescription& draco() {
   static const RobotDescription robot = [] {
     UrdfOptions o;
     o.load_meshes = false;
-    return load_urdf(std::string(DMBD_DRACO_DIR) + "/draco.urdf", o);
+    return load_urdf(std::string(DMBD_ROBOTS_DIR "/draco") + "/draco.urdf", o);
   }();
   return robot;
 }

@@ -13,7 +13,7 @@ namespace dmbd::report {
 namespace {
 
 const model::RobotDescription& draco() {
-  static const model::RobotDescription robot = model::load_urdf(std::string(DMBD_DRACO_DIR) + "/draco.urdf");
+  static const model::RobotDescription robot = model::load_urdf(std::string(DMBD_ROBOTS_DIR "/draco") + "/draco.urdf");
   return robot;
 }
 

@@ -116,7 +116,7 @@ int count_ids(const cv::Mat& ids, int id) {
 class Draco : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    robot_ = new model::RobotDescription(model::load_urdf(DMBD_DRACO_DIR "/draco.urdf"));
+    robot_ = new model::RobotDescription(model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf"));
     scene_ = new Scene(scene_from_robot(*robot_));
   }
   static void TearDownTestSuite() {

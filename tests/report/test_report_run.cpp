@@ -1,6 +1,6 @@
 // Reports drawn from runs (dmbd::report): frames from the logged poses show the robot
 // moving, a fixed base on a table, the operational space controller's desired and
-// measured paths when they were logged; a report redrawn from the run directory (sim::read_run, `dmbd report`) is the
+// measured paths when they were logged; a report redrawn from the run directory (scenario::read_run, `dmbd report`) is the
 // one drawn straight after the simulation, pixel for pixel; the files listed are the
 // files written, nothing else is left behind, stale frames are removed.
 #include <gtest/gtest.h>
@@ -17,15 +17,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "../sim/sim_test_support.hpp"
+#include "sim_test_support.hpp"
 #include "dmbd/report/report.hpp"
-#include "dmbd/sim/run_directory.hpp"
+#include "dmbd/scenario/run_directory.hpp"
 #include "dmbd/viz/renderer.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-using dmbd::sim::load_scenario;
+using dmbd::scenario::load_scenario;
 using dmbd::sim::test::read_text;
 using dmbd::sim::test::TempDir;
 using dmbd::sim::test::write_text;
@@ -75,7 +75,7 @@ TEST(ReportFrames, FramesShowTheRobotMoving) {
   for (bool locked : {false, true}) {
     SCOPED_TRACE(locked ? "knee locked" : "knee driven");
     const std::string out = dir.file(locked ? "still" : "swing");
-    const auto run = dmbd::sim::run_scenario(scenario(locked), out);
+    const auto run = dmbd::scenario::run_scenario(scenario(locked), out);
     const auto r = dmbd::report::write_report(run, out);
     ASSERT_EQ(r.frames, 4);  // t = 0, 0.1, 0.2, 0.3 s
     EXPECT_TRUE(fs::exists(out + "/video.mp4"));
@@ -105,7 +105,7 @@ TEST(ReportFrames, FramesShowTheRobotMoving) {
 
 const Eigen::Vector3d kCameraPosition(1.6, -1.6, 1.0), kCameraLookAt(0, 0, 0.8);
 
-dmbd::sim::ScenarioRun short_run(const TempDir& dir, const std::string& name, bool fixed) {
+dmbd::scenario::ScenarioRun short_run(const TempDir& dir, const std::string& name, bool fixed) {
   const std::string path = dir.file(name + ".yaml");
   write_text(path, "name: " + name + "\n" +
                        "robot: {base: " + (fixed ? "fixed" : "floating") +
@@ -114,7 +114,7 @@ dmbd::sim::ScenarioRun short_run(const TempDir& dir, const std::string& name, bo
                        "references:\n"
                        "  l_knee.current: {type: constant, value: 2.0}\n"
                        "frames: {fps: 10, width: 640, height: 360, camera: {position: [1.6, -1.6, 1.0], look_at: [0, 0, 0.8]}}\n");
-  return dmbd::sim::run_scenario(load_scenario(path), dir.file(name));
+  return dmbd::scenario::run_scenario(load_scenario(path), dir.file(name));
 }
 
 dmbd::viz::Camera test_camera() {
@@ -299,7 +299,7 @@ TEST(ReportFiles, ListedFilesOnlyAndNoStaleFrames) {
                    "frames: {fps: 20, width: 160, height: 120}\n"
                    "plots:\n  - {title: Knee, y_label: rad, file: knee.png, signals: [l_knee.q]}\n");
   const std::string out = dir.file("out");
-  const auto run = dmbd::sim::run_scenario(load_scenario(path), out);
+  const auto run = dmbd::scenario::run_scenario(load_scenario(path), out);
   const auto first = dmbd::report::write_report(run, out);
   EXPECT_EQ(first.frames, 5);  // 0, 50, ..., 200 ms
   std::vector<std::string> listed = run.files;

@@ -22,6 +22,7 @@
 
 #include <unistd.h>
 
+#include "robot_files.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/codegen/fixed.hpp"
 #include "dmbd/codegen/interpreter.hpp"
@@ -31,7 +32,7 @@
 #include "dmbd/model/plant.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/sim/log.hpp"
-#include "dmbd/sim/scenario.hpp"
+#include "dmbd/scenario/scenario.hpp"
 #include "dmbd/sim/signals.hpp"
 #include "dmbd/sim/simulation.hpp"
 #include "sim_test_support.hpp"
@@ -61,7 +62,7 @@ std::unique_ptr<dmbd::model::Plant> knee_plant(double q0 = 1.0) {
   namespace m = dmbd::model;
   m::UrdfOptions uo;
   uo.load_meshes = false;  // no rendering, no contact: the meshes are not needed
-  m::RobotDescription robot = m::load_urdf(std::string(DMBD_DRACO_DIR) + "/draco.urdf", uo);
+  m::RobotDescription robot = m::load_urdf(std::string(DMBD_ROBOTS_DIR "/draco") + "/draco.urdf", uo);
   std::vector<std::pair<std::string, double>> freeze;
   for (const auto& j : robot.joints) {
     const bool one_dof = j.type == m::JointType::Revolute || j.type == m::JointType::Continuous || j.type == m::JointType::Prismatic;
@@ -73,7 +74,7 @@ std::unique_ptr<dmbd::model::Plant> knee_plant(double q0 = 1.0) {
   po.base = m::BaseMode::Fixed;
   po.X_WB.translation() = Eigen::Vector3d(0, 0, 1.3);
   po.contact = false;
-  for (const auto& a : m::draco_actuators())
+  for (const auto& a : dmbd::test::draco_actuators())
     if (a.joint == "l_knee") po.actuators.push_back(a);
   auto plant = std::make_unique<m::Plant>(robot, po);
   plant->reset();
@@ -501,10 +502,10 @@ TEST(SimDeterminism, NoisyRunsRepeatBitForBit) {
            "    outputs: {i: l_knee.current}\n";
   };
   write_text(path, scenario_text(7));
-  const auto s = dmbd::sim::load_scenario(path);
+  const auto s = dmbd::scenario::load_scenario(path);
   ASSERT_EQ(s.variants.size(), 1u);
-  const auto a = dmbd::sim::run_variant(s, s.variants[0], {});
-  const auto b = dmbd::sim::run_variant(s, s.variants[0], {});
+  const auto a = dmbd::scenario::run_variant(s, s.variants[0], {});
+  const auto b = dmbd::scenario::run_variant(s, s.variants[0], {});
   ASSERT_EQ(a.log.rows(), 151u);
   EXPECT_TRUE(a.log.to_csv() == b.log.to_csv()) << "two runs of the same scenario differ";
   EXPECT_EQ(a.controller_steps, b.controller_steps);
@@ -517,8 +518,8 @@ TEST(SimDeterminism, NoisyRunsRepeatBitForBit) {
   for (std::size_t k = 0; k < q.size(); ++k) max_dev = std::max(max_dev, std::abs(pot[k] - q[k]));
   EXPECT_GT(max_dev, 1e-4);  // noise 2e-3 rad and a 1.6e-3 rad ADC step
   write_text(path, scenario_text(8));
-  const auto s2 = dmbd::sim::load_scenario(path);
-  const auto c = dmbd::sim::run_variant(s2, s2.variants[0], {});
+  const auto s2 = dmbd::scenario::load_scenario(path);
+  const auto c = dmbd::scenario::run_variant(s2, s2.variants[0], {});
   EXPECT_NE(c.log.column("l_knee.q_pot"), a.log.column("l_knee.q_pot"));
 }
 

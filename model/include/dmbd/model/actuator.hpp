@@ -85,14 +85,11 @@ struct ActuatorParams {
   double force_per_amp_N_per_A() const { return k_tau_Nm_per_A * N_m_rad_per_m; }
 };
 
-// Reads the per-joint table (model/draco/actuators.yaml for DRACO) with the located
+// Reads the per-joint table (robots/draco/actuators.yaml for DRACO) with the located
 // YAML reader (dmbd/base/yaml_reader.hpp). Throws ModelError naming the file, the line
 // and column, and what was expected: every problem, one line each. Numbers are read by
 // `numbers`: plain numbers unless a caller above model supplies expressions
 // (blocks::expression_numbers()).
 std::vector<ActuatorParams> load_actuators(const std::string& yaml_path, const NumberParser& numbers = plain_number);
-
-// DRACO's table (load_actuators of DMBD_DRACO_DIR/actuators.yaml).
-std::vector<ActuatorParams> draco_actuators(const NumberParser& numbers = plain_number);
 
 }  // namespace dmbd::model

@@ -9,7 +9,7 @@
 
 namespace dmbd::model {
 
-// Defaults: DRACO's knee motor (model/draco/actuators.yaml, docs/model.md section 4).
+// Defaults: DRACO's knee motor (robots/draco/actuators.yaml, docs/model.md section 4).
 struct ThermalParams {
   double R_winding_ohm = 1.03;           // at 20 C
   double alpha_per_K = 0.00393;          // copper

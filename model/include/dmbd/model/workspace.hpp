@@ -4,7 +4,7 @@
 // them within their limits, the link origin's position in the reference link's frame
 // at each sample, and the density of those positions on a grid of a plane.
 //
-//   const auto robot = dmbd::model::load_urdf(dmbd::model::draco_dir() + "/draco.urdf");
+//   const auto robot = dmbd::model::load_urdf(dmbd::model::find_robot("draco").urdf);
 //   const auto ws = dmbd::model::sample_workspace(robot, "l_foot", "torso", {100000, 1});
 //   const auto xz = dmbd::model::density_grid(ws.points, 0, 2, 0.02);   // sagittal map
 //

@@ -3,8 +3,8 @@
 // them, viz is the drawing): plots/*.png (the experiment's figures and the scenario's
 // plots), frames/frame_NNNNN.png and video.mp4 (the frame variant drawn from its logged
 // joint angles, base pose and contact forces) and report.html, one self-contained page
-// linking only to files in the directory. Made from a sim::ScenarioRun: straight after
-// the simulation (`dmbd simulate`) or from its run directory (sim::read_run,
+// linking only to files in the directory. Made from a scenario::ScenarioRun: straight after
+// the simulation (`dmbd simulate`) or from its run directory (scenario::read_run,
 // `dmbd report DIR`), with the same files pixel for pixel. Every file is written
 // atomically; frames of an earlier report are removed first.
 #include <optional>
@@ -13,7 +13,7 @@
 
 #include <Eigen/Core>
 
-#include "dmbd/sim/run_directory.hpp"
+#include "dmbd/scenario/run_directory.hpp"
 
 namespace dmbd::report {
 
@@ -35,6 +35,6 @@ struct ReportResult {
 
 // Throws InputError for a scenario the frames cannot be drawn from (a joint of the
 // robot missing from the log) and OutputError for a file that cannot be written.
-ReportResult write_report(const sim::ScenarioRun& run, const std::string& dir, const ReportOptions& options = {});
+ReportResult write_report(const scenario::ScenarioRun& run, const std::string& dir, const ReportOptions& options = {});
 
 }  // namespace dmbd::report

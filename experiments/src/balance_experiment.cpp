@@ -1,0 +1,444 @@
+// The balance experiment (paper Fig. 7): unsupported stepping in place, from each
+// variant's log of the balancing controller's outputs (balance_controller.hpp), the
+// torso's true pose and the actuators' windings. Per variant (metrics.balance.NAME):
+//   fell, fall_time_s                 torso below fall_height_m (base.z) or tilted beyond
+//                                     fall_tilt_rad (base.tilt) at a log sample; the first
+//   balanced_s                        from start_s (stepping starts) to the fall or the end
+//   steps                             balance.touch_downs at the last sample before the fall
+//   landing_error_rms_m               |landed − planned| (x, y) at each landing (balance.landings)
+//                                     before the fall, RMS over them
+//   com_lateral_velocity_reversals    fraction of the steps between consecutive touch-downs
+//                                     (before the fall) in which balance.com_vy changes sign
+//   peak_winding_C {cooled, uncooled} largest knee winding temperature (both knees)
+//   wbc_tick_us {median, max}, real_time_factor, qp_failures (the last count)
+//   pushes [{start_s, duration_s, force_N, direction, survived, lipm}]  each interval a force's
+//                                     source is nonzero, up to the variant's duration; force
+//                                     at its peak (unit direction); survived: no fall within
+//                                     3 s of its end and the run lasted that long; lipm: the
+//                                     pendulum's verdict at its end (push_capture.hpp) and
+//                                     push_cp_shift_m, the capture point's shift by the push
+// Figures: balance_com_phase.png (Fig. 7c), balance_joints.png (Fig. 7d),
+// balance_knee_temperature.png, balance_footsteps.png and balance_phases.png.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "experiment_support.hpp"
+#include "push_capture.hpp"
+#include "dmbd/wholebody/capture.hpp"
+#include "dmbd/control/balance_controller.hpp"
+#include "dmbd/experiments/experiment.hpp"
+
+namespace dmbd::experiments {
+
+namespace {
+
+using detail::signal;
+using detail::stacked_axes;
+
+constexpr double kSurviveAfterPushS = 3.0;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Params {
+  std::string leg;
+  double start_s, fall_height_m, fall_tilt_rad;
+  std::string prefix;                        // the balancing controller's signals: its name and "."
+  std::vector<std::string> winding_joints;   // whose winding temperatures are reported (`winding_joints`)
+  const ExperimentSetup* setup = nullptr;    // its figure labels
+};
+
+// What the metrics and the figures share of one variant's log, found once.
+struct Run {
+  const VariantResult& r;
+  const std::vector<double>& t;
+  std::string prefix;                     // Params::prefix
+  std::size_t start = 0;                  // first sample at or after start_s
+  std::size_t fall = 0;                   // first sample past the fall limits, or rows
+  std::vector<std::size_t> touch_downs{};  // samples where balance.touch_downs rose, before the fall
+  std::vector<std::size_t> landings{};     // samples where balance.landings rose, before the fall
+  bool fell() const { return fall < t.size(); }
+  double end_s() const { return fell() ? t[fall] : t.back(); }
+};
+
+Run analyse(const VariantResult& r, const Params& p, const std::string& file) {
+  Run run{r, r.log.time(), p.prefix};
+  const auto& t = run.t;
+  const auto& z = signal(r, "base.z", file);
+  const auto& tilt = signal(r, "base.tilt", file);
+  run.start = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), p.start_s) - t.begin());
+  run.fall = t.size();
+  for (std::size_t k = 0; k < t.size() && run.fall == t.size(); ++k)
+    if (z[k] < p.fall_height_m || tilt[k] > p.fall_tilt_rad) run.fall = k;
+  const auto& td = signal(r, p.prefix + "touch_downs", file);
+  const auto& landed = signal(r, p.prefix + "landings", file);
+  for (std::size_t k = 1; k < run.fall; ++k) {
+    if (td[k] > td[k - 1]) run.touch_downs.push_back(k);
+    if (landed[k] > landed[k - 1]) run.landings.push_back(k);
+  }
+  return run;
+}
+
+// RMS over the landings of the distance between the latched landed and planned points.
+double landing_error_rms(const Run& run, const std::string& file) {
+  const auto& lx = signal(run.r, run.prefix + "landed_x", file);
+  const auto& ly = signal(run.r, run.prefix + "landed_y", file);
+  const auto& px = signal(run.r, run.prefix + "planned_x", file);
+  const auto& py = signal(run.r, run.prefix + "planned_y", file);
+  double sq = 0;
+  for (std::size_t k : run.landings) sq += (lx[k] - px[k]) * (lx[k] - px[k]) + (ly[k] - py[k]) * (ly[k] - py[k]);
+  return run.landings.empty() ? kNaN : std::sqrt(sq / static_cast<double>(run.landings.size()));
+}
+
+// The fraction of the steps [touch-down i, touch-down i+1] whose samples hold both a
+// positive and a negative com_vy (a sign change between two of its samples; a change
+// across a touch-down belongs to the step it ends).
+double reversal_fraction(const Run& run, const std::string& file) {
+  const auto& vy = signal(run.r, run.prefix + "com_vy", file);
+  const std::size_t n = run.touch_downs.size() < 2 ? 0 : run.touch_downs.size() - 1;
+  std::size_t reversed = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool pos = false, neg = false;
+    for (std::size_t k = run.touch_downs[i]; k <= run.touch_downs[i + 1]; ++k) {
+      pos = pos || vy[k] > 0;
+      neg = neg || vy[k] < 0;
+    }
+    if (pos && neg) ++reversed;
+  }
+  return n ? static_cast<double>(reversed) / static_cast<double>(n) : kNaN;
+}
+
+double peak(const std::vector<double>& x) {
+  double m = -std::numeric_limits<double>::infinity();
+  for (double v : x)
+    if (v > m) m = v;  // NaN skipped
+  return m;
+}
+
+// The windings' largest temperature (over `joints`) per thermal model: J.T_winding_cooled and
+// _uncooled, or J.T_winding under the variant's one cooling mode. Nothing without them.
+void winding_metrics(const VariantResult& r, Cooling cooling, const std::vector<std::string>& joints, nlohmann::json& m) {
+  const std::pair<const char*, const char*> modes[] = {
+      {"_cooled", "cooled"}, {"_uncooled", "uncooled"}, {"", cooling == Cooling::Off ? "uncooled" : "cooled"}};
+  for (const auto& [suffix, mode] : modes)
+    for (const auto& joint : joints) {
+      const int c = r.log.find(joint + ".T_winding" + suffix);
+      if (c < 0) continue;
+      nlohmann::json& slot = m["peak_winding_C"][mode];
+      const double p = peak(r.log.column(c));
+      slot = slot.is_null() ? p : std::max(slot.get<double>(), p);
+    }
+}
+
+// ---------------------------------------------------------------- pushes
+// The scenario's pushes up to the variant's duration, also those a run ended (by a fall)
+// before reaching: they were not survived.
+struct Push {
+  double start_s, end_s, peak_N = 0;
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // of the force at its peak, unit
+};
+
+void switch_times(const Source& s, std::vector<double>& out) {
+  out.push_back(s.start_s);
+  if (s.duration_s > 0) out.push_back(s.start_s + s.duration_s);
+  for (const auto& step : s.steps) out.push_back(step.first);
+  for (const auto& p : s.plus) switch_times(p, out);
+}
+
+// The times a source is read at: the log's samples and the source's own switching times
+// up to t_end (a step's exact start and end however coarse the log, and the pushes of a
+// run that ended early), and t_end.
+std::vector<double> push_grid(const std::vector<double>& t, const Source& s, double t_end) {
+  std::vector<double> g = t, extra{t_end};
+  switch_times(s, extra);
+  for (double x : extra)
+    if (x > t.front() && x <= t_end) g.push_back(x);
+  std::sort(g.begin(), g.end());
+  g.erase(std::unique(g.begin(), g.end()), g.end());
+  return g;
+}
+
+// Each interval up to t_end over which the force's source is nonzero (one still on at
+// t_end ends there).
+void find_pushes(const ForceSpec& f, const std::vector<double>& t, double t_end, std::vector<Push>& out) {
+  const double scale = f.direction_W.norm();
+  if (scale == 0 || t.empty()) return;
+  const auto g = push_grid(t, f.source, t_end);
+  bool on = false;
+  for (double x : g) {
+    const double v = f.source.value(x);
+    if (v == 0) {
+      if (on) out.back().end_s = x;
+      on = false;
+      continue;
+    }
+    if (!on) out.push_back({x, g.back()});
+    on = true;
+    if (std::abs(v) * scale > out.back().peak_N) {
+      out.back().peak_N = std::abs(v) * scale;
+      out.back().direction = f.direction_W * (v > 0 ? 1.0 : -1.0) / scale;
+    }
+  }
+}
+
+// The pendulum's verdict at the push's end (push_capture.hpp) and the capture point's
+// shift by the push itself, F/(mω²)(e^{ωτ} − 1) with the horizontal part of F and the
+// robot's total mass.
+nlohmann::json push_lipm(const Run& run, const VariantFacts& v, const Push& p, const std::string& file) {
+  const auto mass = run.r.truth.find("total_mass_kg");
+  const auto* balance = v.bus_controller<control::BalanceSetup>();
+  if (!balance || mass == run.r.truth.end()) return nullptr;
+  nlohmann::json out = detail::push_capture(run.r, *balance, p.end_s, file);
+  if (out.is_null()) out = {{"capturable", nullptr}};  // the run ended before, or not stepping
+  const double force = p.peak_N * p.direction.head<2>().norm();
+  out["push_cp_shift_m"] = wholebody::push_capture_point_shift(force, p.end_s - p.start_s, mass->second, detail::pendulum_omega(*balance));
+  return out;
+}
+
+nlohmann::json push_metrics(const Run& run, const VariantFacts& v, const std::string& file) {
+  std::vector<Push> pushes;
+  for (const auto& f : v.forces) find_pushes(f, run.t, std::max(run.t.back(), v.duration_s), pushes);
+  std::sort(pushes.begin(), pushes.end(), [](const Push& a, const Push& b) { return a.start_s < b.start_s; });
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : pushes) {
+    const double until = p.end_s + kSurviveAfterPushS;
+    const bool survived = run.t.back() >= until - 1e-9 && !(run.fell() && run.end_s() <= until);
+    out.push_back({{"start_s", p.start_s},
+                   {"duration_s", p.end_s - p.start_s},
+                   {"force_N", p.peak_N},
+                   {"direction", nlohmann::json::array({p.direction.x(), p.direction.y(), p.direction.z()})},
+                   {"survived", survived},
+                   {"lipm", push_lipm(run, v, p, file)}});
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- metrics
+// A logged count as a JSON integer (null if not finite).
+nlohmann::json count(double x) { return std::isfinite(x) ? nlohmann::json(std::llround(x)) : nlohmann::json(nullptr); }
+
+void run_metrics(const Run& run, const Params& p, const VariantFacts& v, const std::string& file, nlohmann::json& m) {
+  m["fell"] = run.fell();
+  if (run.fell()) m["fall_time_s"] = run.end_s();
+  m["balanced_s"] = std::max(0.0, run.end_s() - p.start_s);
+  const auto& td = signal(run.r, run.prefix + "touch_downs", file);
+  m["steps"] = count(td[run.fell() ? (run.fall ? run.fall - 1 : 0) : td.size() - 1]);
+  m["landing_error_rms_m"] = landing_error_rms(run, file);
+  m["com_lateral_velocity_reversals"] = reversal_fraction(run, file);
+  winding_metrics(run.r, v.cooling, p.winding_joints, m);
+  for (const char* stat : {"median", "max"})
+    if (const auto it = run.r.timing_us.find(std::string("wbc_tick_us_") + stat); it != run.r.timing_us.end()) m["wbc_tick_us"][stat] = it->second;
+  m["real_time_factor"] = run.r.real_time_factor;
+  m["qp_failures"] = count(signal(run.r, run.prefix + "qp_failures", file).back());
+  m["pushes"] = push_metrics(run, v, file);
+}
+
+// ---------------------------------------------------------------- figures
+plot::Series part(const std::string& label, const std::vector<double>& x, const std::vector<double>& y, std::size_t from,
+                  std::size_t to, plot::Color color, double width = 2.0) {
+  plot::Series s{label, {}, {}, color, width};
+  for (std::size_t k = from; k < to && k < x.size(); ++k) {
+    s.x.push_back(x[k]);
+    s.y.push_back(y[k]);
+  }
+  return s;
+}
+
+// The step boundaries from the start: stepping's start, then each touch-down after it.
+std::vector<std::size_t> step_bounds(const Run& run) {
+  std::vector<std::size_t> b{run.start};
+  for (std::size_t k : run.touch_downs)
+    if (k > run.start) b.push_back(k);
+  return b;
+}
+
+// The lateral CoM phase portrait of each variant's stepping (before the fall), steps 5
+// and 6 (or the last two) highlighted.
+plot::Figure com_phase_figure(const std::vector<Run>& runs, const Params& p, const std::string& file) {
+  plot::Figure fig(1000, 100 + 550 * static_cast<int>(runs.size()));
+  fig.title = labelled(*p.setup, "balance_com_phase", "Lateral CoM phase portrait, stepping in place");
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const Run& run = runs[i];
+    auto& a = fig.axes().emplace_back();
+    a.title = run.r.name;
+    a.x_label = "CoM y (m)";
+    a.y_label = "CoM vy (m/s)";
+    const auto& y = signal(run.r, run.prefix + "com_y", file);
+    const auto& vy = signal(run.r, run.prefix + "com_vy", file);
+    a.series.push_back(part("stepping", y, vy, run.start, run.fall, plot::Color{170, 170, 170}, 1.0));
+    const auto b = step_bounds(run);
+    const std::size_t n = b.size() - 1, first = n >= 6 ? 5 : std::max<std::size_t>(n, 2) - 1;
+    for (std::size_t j = first; j <= std::min(n, first + 1); ++j)
+      a.series.push_back(part(fmt::format("step {}", j), y, vy, b[j - 1], b[j] + 1, plot::palette_color(j - first), 2.5));
+  }
+  return fig;
+}
+
+// The leg's joints: those with a target in the log whose names start with `leg`.
+std::vector<std::string> leg_joints(const VariantResult& r, const std::string& leg) {
+  std::vector<std::string> out;
+  for (int c = 0; c < static_cast<int>(r.log.columns()); ++c)
+    if (const std::string& name = r.log.name(c); name.rfind(leg, 0) == 0 && name.size() > 6 && name.compare(name.size() - 6, 6, ".q_des") == 0)
+      out.push_back(name.substr(0, name.size() - 6));
+  return out;
+}
+
+plot::Figure joints_figure(const std::vector<Run>& runs, const Params& p, const std::string& file) {
+  const auto joints = leg_joints(runs.front().r, p.leg);
+  plot::Figure fig(1200, 200 * static_cast<int>(std::max<std::size_t>(joints.size(), 1)) + 100);
+  fig.title = labelled(*p.setup, "balance_joints", "Joint positions of the leg, desired (dashed) and measured");
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    auto& a = stacked_axes(fig, joints[j] + " (rad)", j + 1 == joints.size());
+    a.legend = j == 0;
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const auto& r = runs[i].r;
+      const std::string prefix = runs.size() > 1 ? r.name + " " : "";
+      a.series.push_back({prefix + "desired", r.log.time(), signal(r, joints[j] + ".q_des", file), plot::palette_color(i), 1.5, true});
+      a.series.push_back({prefix + "measured", r.log.time(), signal(r, joints[j] + ".q", file), plot::palette_color(i)});
+    }
+  }
+  return fig;
+}
+
+// The knees' winding temperatures (every thermal column of both knees); none: no figure.
+std::optional<plot::Figure> knee_temperature_figure(const std::vector<Run>& runs, const Params& p) {
+  plot::Figure fig(1200, 600);
+  fig.title = labelled(*p.setup, "balance_knee_temperature", "Winding temperature");
+  auto& a = fig.add_axes();
+  a.x_label = "Time (s)";
+  a.y_label = "Winding (deg C)";
+  a.h_lines = {130};
+  a.h_line_labels = {"130 C rating"};
+  for (const auto& run : runs)
+    for (const auto& knee : p.winding_joints)
+      for (const char* suffix : {"_cooled", "_uncooled", ""}) {
+        const std::string col = knee + ".T_winding" + suffix;
+        if (run.r.log.find(col) < 0) continue;
+        const std::string mode = *suffix ? std::string(" ") + (suffix + 1) : "";
+        a.series.push_back({(runs.size() > 1 ? run.r.name + ": " : "") + knee + mode, run.t, run.r.log.column(col)});
+      }
+  if (a.series.empty()) return std::nullopt;
+  return fig;
+}
+
+// Isolated points (markers only): NaN between them breaks the line.
+plot::Series points(const std::string& label, const std::vector<double>& x, const std::vector<double>& y,
+                    const std::vector<std::size_t>& at, plot::Color color) {
+  plot::Series s{label, {}, {}, color, 1.0, false, true};
+  for (std::size_t k : at) {
+    s.x.insert(s.x.end(), {x[k], kNaN});
+    s.y.insert(s.y.end(), {y[k], kNaN});
+  }
+  return s;
+}
+
+plot::Figure footsteps_figure(const std::vector<Run>& runs, const Params& p, const std::string& file) {
+  plot::Figure fig(1000, 100 + 600 * static_cast<int>(runs.size()));
+  fig.title = labelled(*p.setup, "balance_footsteps", "Footsteps from above: planned and landed at each landing, and the CoM");
+  for (const auto& run : runs) {
+    auto& a = fig.axes().emplace_back();
+    a.title = run.r.name;
+    a.x_label = "x (m)";
+    a.y_label = "y (m)";
+    a.series.push_back(part("CoM", signal(run.r, run.prefix + "com_x", file), signal(run.r, run.prefix + "com_y", file), run.start, run.fall,
+                            plot::Color{150, 150, 150}, 1.0));
+    a.series.push_back(points("planned", signal(run.r, run.prefix + "planned_x", file), signal(run.r, run.prefix + "planned_y", file),
+                              run.landings, plot::palette_color(0)));
+    a.series.push_back(points("landed", signal(run.r, run.prefix + "landed_x", file), signal(run.r, run.prefix + "landed_y", file),
+                              run.landings, plot::palette_color(3)));
+  }
+  return fig;
+}
+
+plot::Figure phases_figure(const std::vector<Run>& runs, const Params& p, const std::string& file) {
+  plot::Figure fig(1200, 1000);
+  fig.title = labelled(*p.setup, "balance_phases", "Balancing: phase, swing side, torso height and tilt");
+  struct Row {
+    std::string signal;
+    const char* label;
+    double limit;
+  };
+  const Row rows[] = {{p.prefix + "phase", "Phase", kNaN},
+                      {p.prefix + "swing_side", "Swing side (0 l, 1 r)", kNaN},
+                      {"base.z", "Torso z (m)", p.fall_height_m},
+                      {"base.tilt", "Tilt (rad)", p.fall_tilt_rad}};
+  for (const auto& row : rows) {
+    auto& a = stacked_axes(fig, row.label, &row == &rows[3]);
+    a.legend = &row == &rows[0];
+    a.v_lines = {p.start_s};
+    a.v_line_labels = {"stepping"};
+    if (!std::isnan(row.limit)) {
+      a.h_lines = {row.limit};
+      a.h_line_labels = {"fall"};
+    }
+    for (std::size_t i = 0; i < runs.size(); ++i)
+      a.series.push_back({runs[i].r.name, runs[i].t, signal(runs[i].r, row.signal, file), plot::palette_color(i)});
+  }
+  return fig;
+}
+
+void add_figures(const std::vector<Run>& runs, const Params& p, const std::string& file, ExperimentResult& res) {
+  if (runs.empty()) return;
+  res.figures.emplace_back("balance_com_phase.png", com_phase_figure(runs, p, file));
+  res.figures.emplace_back("balance_joints.png", joints_figure(runs, p, file));
+  if (auto fig = knee_temperature_figure(runs, p)) res.figures.emplace_back("balance_knee_temperature.png", std::move(*fig));
+  res.figures.emplace_back("balance_footsteps.png", footsteps_figure(runs, p, file));
+  res.figures.emplace_back("balance_phases.png", phases_figure(runs, p, file));
+}
+
+// The balancing controller's signal prefix: from the first variant that has one.
+std::string balance_prefix(const std::vector<VariantFacts>& variants) {
+  for (const auto& v : variants)
+    if (const auto* b = v.bus_controller<control::BalanceSetup>()) return b->name + ".";
+  return "balance.";
+}
+
+ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) {
+  Params p{detail::text_or(e, "leg", ""), detail::number_or(e, "start_s", 4.0), detail::number_or(e, "fall_height_m", 0.6),
+           detail::number_or(e, "fall_tilt_rad", 0.5), balance_prefix(variants), {}, &e};
+  if (const auto it = e.names.find("winding_joints"); it != e.names.end()) p.winding_joints = it->second;
+  ExperimentResult res;
+  std::vector<Run> analysed;
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const VariantResult& r = runs[k];
+    if (r.log.rows() == 0) {
+      res.warnings.push_back(fmt::format("variant '{}' logged no samples: no metrics", r.name));
+      continue;
+    }
+    analysed.push_back(analyse(r, p, e.file));
+    const Run& run = analysed.back();
+    if (run.t.back() < p.start_s)
+      res.warnings.push_back(fmt::format("variant '{}': the run ends before stepping starts ({} s)", r.name, p.start_s));
+    if (run.fell()) res.warnings.push_back(fmt::format("variant '{}' fell at t = {:.3f} s", r.name, run.end_s()));
+    run_metrics(run, p, variants[k], e.file, res.metrics["balance"][r.name]);
+  }
+  add_figures(analysed, p, e.file, res);
+  res.notes.push_back(fmt::format("Fell: torso below {} m or tilted beyond {} rad; stepping from t = {} s; steps, landing errors and CoM "
+                                  "velocity reversals up to the fall. A push survived when the robot did not fall within {} s of its end "
+                                  "and the run lasted that long.",
+                                  p.fall_height_m, p.fall_tilt_rad, p.start_s, kSurviveAfterPushS));
+  return res;
+}
+
+class Balance : public Experiment {
+ public:
+  std::map<std::string, KeyKind> keys() const override {
+    return {{"leg", KeyKind::Text}, {"start_s", KeyKind::Number}, {"fall_height_m", KeyKind::Number}, {"fall_tilt_rad", KeyKind::Number},
+            {"winding_joints", KeyKind::Joints}};
+  }
+  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<VariantResult>& runs,
+                            const std::vector<VariantFacts>& variants) const override {
+    return balance(e, runs, variants);
+  }
+};
+
+}  // namespace
+
+std::shared_ptr<const Experiment> balance_experiment() { return std::make_shared<Balance>(); }
+
+}  // namespace dmbd::experiments

@@ -1,0 +1,79 @@
+// A variant's run facts as JSON (metrics.json runs.RUN, a sweep part's part.json) and back.
+#include "engine_names.hpp"
+#include "run_facts.hpp"
+
+#include <cmath>
+
+namespace dmbd::scenario {
+
+namespace {
+
+// A number written by finite_json ("inf", "NaN" as strings) read back.
+double number_of(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  const std::string t = j.is_string() ? j.get<std::string>() : "NaN";
+  return t == "inf" ? HUGE_VAL : (t == "-inf" ? -HUGE_VAL : std::nan(""));
+}
+
+// run_json's "sil" read back.
+SilFacts sil_facts(const nlohmann::json& j) {
+  SilFacts f{j.value("compiler", ""), j.value("version", ""), j.value("flags", ""), {}};
+  for (const auto& c : j.value("controllers", nlohmann::json::array())) {
+    SilController e{c.value("controller", ""), c.value("scalar", ""), c.value("object", ""), number_of(c.value("compile_s", nlohmann::json())), {}};
+    if (c.contains("saturations") && c["saturations"].is_number_unsigned()) e.saturations = c["saturations"].get<unsigned long long>();
+    f.controllers.push_back(e);
+  }
+  return f;
+}
+
+}  // namespace
+
+nlohmann::json run_json(const VariantResult& r) {
+  nlohmann::json j;
+  j["duration_s"] = r.log.time().empty() ? 0.0 : r.log.time().back();
+  j["wall_s"] = r.wall_s;
+  j["real_time_factor"] = r.real_time_factor;
+  j["integrator_steps"] = r.integrator_steps;
+  j["controller_steps"] = r.controller_steps;
+  j["controller_clamp_events"] = nlohmann::json::array();
+  for (const auto& c : r.clamp_events) j["controller_clamp_events"].push_back(c ? nlohmann::json(*c) : nlohmann::json());
+  j["truth"] = nlohmann::json::object();
+  for (const auto& [k, v] : r.truth) j["truth"][k] = v;
+  if (!r.timing_us.empty())
+    for (const auto& [k, v] : r.timing_us) j["timing_us"][k] = v;
+  for (const auto& f : r.fixed_point)
+    j["fixed_point"].push_back({{"controller", f.controller}, {"output", f.output}, {"unit", f.unit}, {"word_bits", f.word_bits},
+                                {"error_bound", f.bound}, {"range", f.range}});
+  if (!r.warnings.empty()) j["warnings"] = r.warnings;
+  if (r.sil) {
+    nlohmann::json& sil = j["sil"];
+    sil = {{"compiler", r.sil->compiler}, {"version", r.sil->version}, {"flags", r.sil->flags}, {"controllers", nlohmann::json::array()}};
+    for (const auto& c : r.sil->controllers) {
+      nlohmann::json e = {{"controller", c.controller}, {"scalar", c.scalar}, {"object", c.object}, {"compile_s", c.compile_s}};
+      if (c.saturations) e["saturations"] = *c.saturations;
+      sil["controllers"].push_back(e);
+    }
+  }
+  return j;
+}
+
+void read_run_json(const nlohmann::json& j, VariantResult& r) {
+  r.wall_s = number_of(j.value("wall_s", nlohmann::json(0.0)));
+  r.real_time_factor = number_of(j.value("real_time_factor", nlohmann::json(0.0)));
+  r.integrator_steps = j.value("integrator_steps", 0LL);
+  r.controller_steps = j.value("controller_steps", std::vector<long long>{});
+  for (const auto& c : j.value("controller_clamp_events", nlohmann::json::array()))
+    r.clamp_events.push_back(c.is_number_unsigned() ? std::optional<unsigned long long>(c.get<unsigned long long>()) : std::nullopt);
+  if (j.contains("sil") && j["sil"].is_object()) r.sil = sil_facts(j["sil"]);
+  if (j.contains("truth"))
+    for (auto it = j["truth"].begin(); it != j["truth"].end(); ++it) r.truth[it.key()] = number_of(it.value());
+  if (j.contains("timing_us"))
+    for (auto it = j["timing_us"].begin(); it != j["timing_us"].end(); ++it) r.timing_us[it.key()] = number_of(it.value());
+  if (j.contains("fixed_point"))
+    for (const auto& f : j["fixed_point"])
+      r.fixed_point.push_back({f.value("controller", ""), f.value("output", ""), f.value("unit", ""), f.value("word_bits", 0),
+                               number_of(f["error_bound"]), number_of(f["range"])});
+  r.warnings = j.value("warnings", std::vector<std::string>{});
+}
+
+}  // namespace dmbd::scenario

@@ -1,0 +1,112 @@
+// control::DynamicsModel, wholebody's robot model over model::RobotDynamics: every quantity
+// against RobotDynamics' own value forms (two paths through the same kernel must agree
+// exactly), and the kinematic ones against finite differences (an independent check of
+// the Jacobians and J̇v that the OSC reads).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "dmbd/base/error.hpp"
+#include "dmbd/model/robot_description.hpp"
+#include "dmbd/control/dynamics_model.hpp"
+
+namespace dmbd::control {
+
+namespace {
+
+const model::RobotDescription& draco() {
+  static const model::RobotDescription r = model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
+  return r;
+}
+
+model::DynamicsOptions table(double z) {
+  model::DynamicsOptions o;
+  o.base = model::BaseMode::Fixed;
+  o.X_WB.translation() = Eigen::Vector3d(0, 0, z);
+  return o;
+}
+
+// A random state inside the joint limits, rates of up to 2 rad/s.
+void random_state(const wholebody::Layout& l, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& v) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  q.setZero(l.nq);
+  v.setZero(l.nv);
+  for (const auto& j : l.joints) {
+    const double lo = std::isfinite(j.limits.lower_rad) ? j.limits.lower_rad : -1.0;
+    const double hi = std::isfinite(j.limits.upper_rad) ? j.limits.upper_rad : 1.0;
+    q[j.q_index] = lo + (hi - lo) * (0.1 + 0.8 * u(rng));
+    v[j.v_index] = 4.0 * u(rng) - 2.0;
+  }
+}
+
+TEST(DynamicsModel, LayoutIsTheTenJointsWithTheirUrdfLimits) {
+  DynamicsModel m(draco(), table(1.3));
+  const auto& l = m.layout();
+  EXPECT_EQ(l.nq, 10);
+  EXPECT_EQ(l.nv, 10);
+  EXPECT_EQ(l.base_dofs, 0);
+  ASSERT_EQ(l.joints.size(), 10u);
+  const int knee = l.joint_index("l_knee");
+  ASSERT_GE(knee, 0);
+  const model::Joint& urdf = draco().joints[static_cast<size_t>(draco().joint_index("l_knee"))];
+  EXPECT_EQ(l.joints[static_cast<size_t>(knee)].limits.lower_rad, urdf.lower);
+  EXPECT_EQ(l.joints[static_cast<size_t>(knee)].limits.upper_rad, urdf.upper);
+  EXPECT_THROW(m.add_frame({"no_such_link", Eigen::Vector3d::Zero()}), InputError);
+}
+
+TEST(DynamicsModel, EveryQuantityIsRobotDynamicsOwn) {
+  DynamicsModel m(draco(), table(1.3));
+  const Eigen::Vector3d p_L(0.05, -0.01, -0.04);
+  m.add_frame({"l_foot", p_L});
+  m.add_frame({"r_shank", Eigen::Vector3d::Zero()});
+  wholebody::ModelData d = m.make_data();
+  model::RobotDynamics ref(draco(), table(1.3));
+  std::mt19937 rng(3);
+  Eigen::VectorXd q, v;
+  for (int trial = 0; trial < 5; ++trial) {
+    random_state(m.layout(), rng, q, v);
+    m.update(q, v, d);
+    ref.set_state(q, v);
+    EXPECT_EQ((d.A - ref.mass_matrix()).norm(), 0.0);
+    EXPECT_EQ((d.bg - ref.coriolis_and_gravity()).norm(), 0.0);
+    EXPECT_EQ((d.g - ref.gravity()).norm(), 0.0);
+    const int foot = ref.link_index("l_foot");
+    EXPECT_EQ((d.frames[0].X_WF.translation() - ref.point_position(foot, p_L)).norm(), 0.0);
+    EXPECT_EQ((d.frames[0].X_WF.rotation() - ref.link_pose(foot).rotation()).norm(), 0.0);
+    EXPECT_EQ((d.frames[0].J - ref.frame_jacobian(foot, p_L)).norm(), 0.0);
+    EXPECT_EQ((d.frames[0].Jdot_v - ref.frame_jacobian_dot_v(foot, p_L)).norm(), 0.0);
+    EXPECT_EQ((d.com - ref.com_position()).norm(), 0.0);
+    EXPECT_EQ((d.J_com - ref.com_jacobian()).norm(), 0.0);
+  }
+}
+
+// Central differences along v: x(q + v h) − x(q − v h) = 2h J v + O(h³), and
+// J(q + v h) v − J(q − v h) v = 2h J̇ v + O(h²·|v|³). With h = 1e-6 the truncation is
+// ~1e-12 and rounding ~1e-10 m/s: tolerances 1e-7 (absolute, m/s and m/s²).
+TEST(DynamicsModel, JacobiansAndBiasAgreeWithFiniteDifferences) {
+  DynamicsModel m(draco(), table(1.3));
+  m.add_frame({"l_foot", Eigen::Vector3d(0.08, 0.005, -0.044)});
+  wholebody::ModelData d = m.make_data(), dp = m.make_data(), dm = m.make_data();
+  std::mt19937 rng(11);
+  Eigen::VectorXd q, v;
+  const double h = 1e-6;
+  for (int trial = 0; trial < 5; ++trial) {
+    random_state(m.layout(), rng, q, v);
+    m.update(q, v, d);
+    m.update(q + h * v, v, dp);
+    m.update(q - h * v, v, dm);
+    const Eigen::Vector3d p_rate = (dp.frames[0].X_WF.translation() - dm.frames[0].X_WF.translation()) / (2 * h);
+    EXPECT_LT((p_rate - d.frames[0].J.bottomRows<3>() * v).norm(), 1e-7);
+    // Angular velocity from R(q ± hv): log(R₊ R₋ᵀ) / 2h.
+    const Eigen::AngleAxisd dR(Eigen::Matrix3d(dp.frames[0].X_WF.rotation() * dm.frames[0].X_WF.rotation().transpose()));
+    EXPECT_LT((dR.axis() * dR.angle() / (2 * h) - d.frames[0].J.topRows<3>() * v).norm(), 1e-7);
+    const Eigen::Matrix<double, 6, 1> jdv = (dp.frames[0].J * v - dm.frames[0].J * v) / (2 * h);
+    EXPECT_LT((jdv - d.frames[0].Jdot_v).norm(), 1e-6 * std::max(1.0, jdv.norm()));
+    EXPECT_LT(((dp.com - dm.com) / (2 * h) - d.J_com * v).norm(), 1e-7);
+    const Eigen::Vector3d cdv = (dp.J_com * v - dm.J_com * v) / (2 * h);
+    EXPECT_LT((cdv - d.com_Jdot_v).norm(), 1e-6 * std::max(1.0, cdv.norm()));
+  }
+}
+
+}  // namespace
+}  // namespace dmbd::control

@@ -1,0 +1,118 @@
+// The balancing controller on the bus (balance_controller.hpp) through the shipped
+// scenario examples/scenarios/balance.yaml, its start-up only (4.2 s: the joint move and
+// the body lift with the torso held horizontally, released at 4 s): in both variants
+// (every joint by its position controller on its actuator; ideal joints) the body lift
+// ends with the torso origin at the 1.0 m target (±0.01 m) and upright (tilt < 0.02 rad),
+// and the QP's normal forces, averaged over the lift's last 0.1 s, carry the robot's
+// weight (±3 %: the lift's minimum-jerk end decelerates, and the torso task's gains answer
+// the sensors' noise, some ±20 N from tick to tick); the
+// scenario's balance map is checked at its line; end_on_fall ends a falling run early.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "dmbd/model/robot_description.hpp"
+#include "dmbd/control/balance_controller.hpp"
+#include "dmbd/control/osc_controller.hpp"
+#include "dmbd/scenario/evaluate.hpp"
+#include "dmbd/scenario/scenario.hpp"
+#include "sim_test_support.hpp"
+
+namespace dmbd::scenario {
+using namespace dmbd::sim;          // NOLINT: the engine's names in these tests
+using namespace dmbd::control;      // NOLINT
+using namespace dmbd::experiments;  // NOLINT
+namespace {
+
+double total_mass(const model::RobotDescription& r) { return r.total_mass_kg(); }
+
+// The mean of a signal over the samples in [t0, t1].
+double mean_over(const VariantResult& r, const std::string& signal, double t0, double t1) {
+  const auto& time = r.log.time();
+  const auto& y = r.log.column(signal);
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t k = 0; k < time.size(); ++k)
+    if (time[k] >= t0 - 1e-9 && time[k] <= t1 + 1e-9) sum += y[k], ++n;
+  return n ? sum / n : NAN;
+}
+
+double at_time(const VariantResult& r, const std::string& signal, double t) {
+  const auto& time = r.log.time();
+  const auto& y = r.log.column(signal);
+  for (std::size_t k = 0; k < time.size(); ++k)
+    if (time[k] >= t - 1e-9) return y[k];
+  return y.back();
+}
+
+TEST(BalanceScenario, TheStartUpLiftsTheTorsoToItsHeightAndTheFeetCarryTheWeight) {
+  const Scenario s = load_scenario(std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/balance.yaml");
+  ASSERT_EQ(s.variants.size(), 2u);
+  for (const auto& v : s.variants) {
+    RunOptions o;
+    o.duration_s = 4.0;
+    const VariantResult r = run_variant(s, v, o);
+    const double weight = total_mass(variant_plant(s, v).robot) * 9.81;
+    const double z = at_time(r, "base.z", 4.0), tilt = at_time(r, "base.tilt", 4.0);
+    const double fz = mean_over(r, "balance.fz_l", 3.9, 4.0) + mean_over(r, "balance.fz_r", 3.9, 4.0);
+    std::printf("%s: torso %.4f m, tilt %.4f rad, normal forces %.1f N of %.1f N\n", v.name.c_str(), z, tilt, fz, weight);
+    EXPECT_NEAR(z, 1.0, 0.01) << v.name;
+    EXPECT_LT(tilt, 0.02) << v.name;
+    EXPECT_NEAR(fz, weight, 0.03 * weight) << v.name;
+    EXPECT_EQ(at_time(r, "balance.qp_failures", 4.0), 0.0) << v.name;
+    EXPECT_EQ(at_time(r, "balance.phase", 3.0), 1.0) << v.name;  // body lift
+    ASSERT_TRUE(r.timing_us.count("wbc_tick_us_median")) << v.name;
+  }
+}
+
+TEST(BalanceScenario, MistakesInTheBalanceMapAreLocated) {
+  dmbd::sim::test::TempDir dir;
+  const std::string path = dir.file("b.yaml");
+  const std::string head = "name: b\nrobot: {urdf: draco, base: floating, contact: true}\nduration_s: 0.01\n";
+  dmbd::sim::test::write_text(path, head + "balance:\n  estimator: gps\n");
+  try {
+    load_scenario(path);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("b.yaml:5:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected kinematic or motion_capture"), std::string::npos) << e.what();
+  }
+  dmbd::sim::test::write_text(path, "name: b\nrobot: {urdf: draco, base: fixed}\nduration_s: 0.01\nbalance: {rate_hz: 1000}\n");
+  const Scenario s = load_scenario(path);
+  try {
+    run_variant(s, s.variants[0], {});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs the robot's base floating"), std::string::npos) << e.what();
+  }
+}
+
+// With nothing holding it the robot folds and drops: the run ends once the torso is
+// below 0.5 m, well before its 5 s; base.vz is the torso's falling speed (the finite
+// difference of base.z to 2 % over one 5 ms log step).
+TEST(EndOnFall, AFallingRobotEndsTheRunEarly) {
+  dmbd::sim::test::TempDir dir;
+  const std::string path = dir.file("f.yaml");
+  dmbd::sim::test::write_text(path, "name: f\nrobot: {urdf: draco, base: floating, contact: true, initial: {l_knee: 1.7, r_knee: 1.7}}\n"
+                         "integration: {mode: fixed, step_s: 0.0005}\nduration_s: 5\nlog_rate_hz: 200\nend_on_fall: true\n");
+  const Scenario s = load_scenario(path);
+  const VariantResult r = run_variant(s, s.variants[0], {});
+  const auto& t = r.log.time();
+  const auto& z = r.log.column("base.z");
+  const auto& tilt = r.log.column("base.tilt");
+  ASSERT_GT(t.size(), 3u);
+  EXPECT_LT(t.back(), 4.0);
+  EXPECT_TRUE(z.back() < 0.5 || tilt.back() > 1.0);
+  for (std::size_t k = 0; k + 2 < t.size(); ++k) {  // every earlier sample was up
+    EXPECT_GE(z[k], 0.5);
+    EXPECT_LE(tilt[k], 1.0);
+  }
+  // base.vz: the speed at mid-interval by the finite difference, where it is falling.
+  const auto& vz = r.log.column("base.vz");
+  const std::size_t k = t.size() / 2;
+  const double fd = (z[k + 1] - z[k - 1]) / (t[k + 1] - t[k - 1]);
+  EXPECT_NEAR(vz[k], fd, 0.02 * std::abs(fd) + 1e-3);
+}
+
+}  // namespace
+}  // namespace dmbd::scenario

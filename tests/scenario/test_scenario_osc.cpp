@@ -1,0 +1,84 @@
+// The shipped operational-space-control scenarios (paper Sec. IV-A, Fig. 6), whole:
+// osc_table.yaml (the paper's and the authors' paths, with and without the disturbance
+// observer) and osc_table_amplitude.yaml (the paper's 1.4 Hz path, amplitude swept).
+// What is asserted is what docs/experiments.md reports: the authors' path is followed
+// within issue 14's figures with the DOB, the DOB lowers every joint's torque error,
+// and the paper's 0.3 m at 1.4 Hz is beyond the hip pitch actuator's current (the
+// largest amplitude followed within the limits is 0.15 m).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "dmbd/scenario/run_directory.hpp"
+#include "sim_test_support.hpp"
+
+namespace dmbd::scenario {
+using namespace dmbd::sim;          // NOLINT: the engine's names in these tests
+using namespace dmbd::control;      // NOLINT
+using namespace dmbd::experiments;  // NOLINT
+namespace {
+
+using dmbd::sim::test::TempDir;
+
+ScenarioRun run_shipped(const TempDir& dir, const std::string& name) {
+  return run_scenario(load_scenario(std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/" + name + ".yaml"), dir.file("out"));
+}
+
+double rms(const nlohmann::json& m, const char* axis) { return m["ankle_rms_error_m"][axis].get<double>(); }
+
+void print(const std::string& name, const nlohmann::json& m) {
+  std::printf("%-12s ankle RMS x %.2f y %.2f z %.2f mm, max %.1f mm, saturated %.3f, tick median %.1f us\n", name.c_str(),
+              1e3 * rms(m, "x"), 1e3 * rms(m, "y"), 1e3 * rms(m, "z"), 1e3 * m["ankle_max_error_m"].get<double>(),
+              m["current_saturation_fraction"].get<double>(), m["osc_tick_us"]["median"].get<double>());
+}
+
+// Issue 14's figures, on the path the leg can follow: the ankle within 5 % of the
+// forward amplitude (7.5 mm of 0.15 m) and 5 mm laterally and vertically; each joint's
+// torque error within 10 % of its peak command (`torques`: at small amplitudes the hip
+// roll's and ankle's commands, under 1 N m, are at the sensed force's noise floor of
+// about 0.05-0.2 N m, and the ratio says nothing); no current at its limit.
+void expect_followed(const nlohmann::json& m, double amplitude_m, bool torques = true) {
+  EXPECT_LE(rms(m, "x"), 0.05 * amplitude_m);
+  EXPECT_LE(rms(m, "y"), 5e-3);
+  EXPECT_LE(rms(m, "z"), 5e-3);
+  EXPECT_EQ(m["current_saturation_fraction"].get<double>(), 0.0);
+  if (!torques) return;
+  for (const auto& [joint, err] : m["torque_rms_error_Nm"].items())
+    EXPECT_LE(err.get<double>(), 0.1 * m["torque_peak_Nm"][joint].get<double>()) << joint;
+}
+
+TEST(OscShippedScenarios, TableTestFollowsTheAuthorsPathAndTheDobLowersEveryTorqueError) {
+  TempDir dir;
+  const auto r = run_shipped(dir, "osc_table");
+  const auto& osc = r.metrics["osc"];
+  for (const char* v : {"paper_dob", "paper_pd", "authors_dob", "authors_pd"}) {
+    ASSERT_TRUE(osc.contains(v)) << v;
+    print(v, osc[v]);
+  }
+  expect_followed(osc["authors_dob"], 0.15);
+  for (const char* path : {"paper", "authors"}) {
+    const auto& dob = osc[std::string(path) + "_dob"]["torque_rms_error_Nm"];
+    const auto& pd = osc[std::string(path) + "_pd"]["torque_rms_error_Nm"];
+    ASSERT_EQ(dob.size(), 5u);  // the moving leg's five joints
+    for (const auto& [joint, err] : dob.items()) EXPECT_LT(err.get<double>(), pd[joint].get<double>()) << path << " " << joint;
+  }
+  // The paper's path asks the hip pitch for more than its current limit allows.
+  EXPECT_GT(osc["paper_dob"]["current_saturation_fraction"].get<double>(), 0.3);
+  EXPECT_GT(osc["paper_dob"]["torque_peak_Nm"]["l_hip_pitch"].get<double>(), 300.0);
+  for (const auto& run : r.runs) EXPECT_GT(run.real_time_factor, 1.0) << run.name;
+}
+
+TEST(OscShippedScenarios, TheLargestAmplitudeFollowedAt1p4HzIs0p15m) {
+  TempDir dir;
+  const auto r = run_shipped(dir, "osc_table_amplitude");
+  const auto& osc = r.metrics["osc"];
+  for (const auto& [name, m] : osc.items()) print(name, m);
+  for (const char* a : {"0.05m", "0.10m", "0.15m"}) {
+    SCOPED_TRACE(a);
+    expect_followed(osc[a], std::stod(a), std::string(a) == "0.15m");
+  }
+  for (const char* a : {"0.175m", "0.20m", "0.25m", "0.30m"}) EXPECT_GT(osc[a]["current_saturation_fraction"].get<double>(), 0.0) << a;
+}
+
+}  // namespace
+}  // namespace dmbd::scenario
