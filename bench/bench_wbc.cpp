@@ -8,6 +8,8 @@
 // estimators (the latter updates a second model: the estimator's).
 #include <benchmark/benchmark.h>
 
+#include "draco_options.hpp"
+
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/control/balance_controller.hpp"
@@ -90,7 +92,7 @@ BENCHMARK(BM_WbcModelTermsOnly);
 // starting over when it leaves).
 void BM_BalanceTick(benchmark::State& state) {
   const model::RobotDescription robot = model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
-  control::BalanceSetup setup;
+  control::BalanceSetup setup = dmbd::test::draco_balance_names();  // robots/draco/robot.yaml's
   setup.estimator = state.range(1) ? control::BalanceEstimator::Kinematic : control::BalanceEstimator::MotionCapture;
   setup.phases.joint_move_s = setup.phases.body_lift_s = 0.05;
   setup.phases.body_lift_start_force_N = 300;

@@ -29,7 +29,7 @@ void Reader::robot(const YAML::Node& n, RobotSetup& r) const {
   optional(n, "urdf", [&](const YAML::Node& u) {
     // A bare name (no folder, no extension) is how earlier versions named their built-in
     // robot: now a robot folder found by name.
-    if (u.IsScalar() && !u.Scalar().empty() && u.Scalar().find_first_of("/.") == std::string::npos) {
+    if (u.IsScalar() && !u.Scalar().empty() && u.Scalar().find_first_of("/.") == std::string::npos && !exists_here(u.Scalar())) {
       note(at(u) + ": robot.urdf: a robot's name is deprecated there: write robot.name: " + u.Scalar() + " (the robot folder)");
       return robot_name(u, r);
     }
@@ -388,6 +388,11 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   std::set<std::string> seen;
   for (const auto& v : s.variants)
     if (!seen.insert(v.name).second) rd.rd.error(Location{path, 0, 0}, "two variants are named '" + v.name + "'");
+  // No robot is built in: each variant's must be named (a robot folder) or given (a URDF).
+  for (const auto& v : s.variants)
+    if (v.robot.urdf.empty() && !rd.rd.failed())
+      rd.rd.error(root["robot"] ? rd.rd.at(root["robot"]) : Location{path, 1, 1},
+                  "robot: expected 'name' (a robot folder: robots/NAME) or 'urdf' (a URDF file)");
   rd.optional(root, "frames", [&](const YAML::Node& f) { read_frames(rd, f, seen, s.frames); });
   rd.optional(root, "plots", [&](const YAML::Node&) { read_plots(rd, root, s.plots); });
   s.experiment.file = path;

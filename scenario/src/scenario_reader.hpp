@@ -57,6 +57,12 @@ struct Reader : ReaderBase, yaml::Fields {
     const auto v = numbers<3>(n, what);
     return {v[0], v[1], v[2]};
   }
+  // Whether a file of that name is in the scenario's folder (false when the system
+  // cannot tell, e.g. a name too long).
+  bool exists_here(const std::string& name) const {
+    std::error_code ec;
+    return fs::exists(fs::path(dir) / name, ec);
+  }
   std::string path(const YAML::Node& n, const std::string& what) const {
     const std::string p = text(n, what);
     const fs::path full = fs::path(p).is_absolute() ? fs::path(p) : fs::path(dir) / p;

@@ -27,9 +27,9 @@ namespace fs = std::filesystem;
 std::string urdf_data(const std::string& rel) {
   return (fs::path(DMBD_TEST_DATA).parent_path().parent_path() / "model" / "data" / "urdf" / rel).lexically_normal().string();
 }
-// DRACO's description (model/draco/draco.urdf at the top of the source tree).
+// DRACO's description (robots/draco/draco.urdf at the top of the source tree).
 std::string draco_urdf() {
-  return (fs::path(DMBD_TEST_DATA).parent_path().parent_path().parent_path() / "model" / "draco" / "draco.urdf")
+  return (fs::path(DMBD_TEST_DATA).parent_path().parent_path().parent_path() / "robots" / "draco" / "draco.urdf")
       .lexically_normal()
       .string();
 }
@@ -72,8 +72,12 @@ class ModelCli : public ::testing::Test {
     full.push_back("--json");
     const Result r = run(full);
     EXPECT_EQ(r.code, 0) << r.err;
-    EXPECT_EQ(r.err, "");
-    return nlohmann::json::parse(r.out);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    // Each warning once on stderr (never on stdout), as the JSON lists them.
+    std::string expected;
+    for (const auto& w : j["warnings"]) expected += "warning: " + w.get<std::string>() + "\n";
+    EXPECT_EQ(r.err, expected);
+    return j;
   }
 
   // Exit 2, exactly one line on stderr starting "dmbd: error: FILE:LINE: " and holding
@@ -173,7 +177,8 @@ TEST_F(ModelCli, MissingMeshesAreWarningsAndStrictMakesThemErrors) {
   const Result table = run({"model", "info", path});
   EXPECT_EQ(table.code, 0);
   EXPECT_NE(table.out.find("missing: package://nowhere_description/meshes/ghost.stl"), std::string::npos) << table.out;
-  EXPECT_NE(table.out.find("warning: " + path + ":"), std::string::npos) << table.out;
+  EXPECT_NE(table.err.find("warning: " + path + ":"), std::string::npos) << table.err;
+  EXPECT_EQ(table.out.find("warning:"), std::string::npos) << table.out;
   expect_bad({path, "--strict"}, path + ":" + std::to_string(line_of(slurp(path), "ghost.stl")) + ": ",
              {"link 'base'", "ghost.stl' not found", "strict"});
 }
@@ -195,18 +200,21 @@ TEST_F(ModelCli, PackagePath) {
   EXPECT_EQ(two["meshes_loaded"], 2);
 }
 
-TEST_F(ModelCli, DracoByDefault) {
-  const Result r = run({"model", "info", "--json"});
-  if (fs::exists(draco_urdf())) {
-    ASSERT_EQ(r.code, 0) << r.err;
-    const nlohmann::json j = nlohmann::json::parse(r.out);
-    EXPECT_EQ(j["source"], draco_urdf());
-    EXPECT_EQ(j["links"].get<int>(), static_cast<int>(j["joints"].size()) + 1);
-    EXPECT_NEAR(j["total_mass_kg"].get<double>(), sum_of_mass_elements(slurp(draco_urdf())), 1e-9);
-  } else {
-    EXPECT_EQ(r.code, 2);
-    EXPECT_NE(r.err.find("draco.urdf: cannot open the file"), std::string::npos) << r.err;
-  }
+// No robot is built in: a robot folder by name (--robot), found on the search path,
+// else one of the two must be given (exit 2, one line).
+TEST_F(ModelCli, RobotByNameAndNoDefault) {
+  const Result r = run({"model", "info", "--json", "--robot", "draco"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["source"], draco_urdf());
+  EXPECT_EQ(j["links"].get<int>(), static_cast<int>(j["joints"].size()) + 1);
+  EXPECT_NEAR(j["total_mass_kg"].get<double>(), sum_of_mass_elements(slurp(draco_urdf())), 1e-9);
+  const Result none = run({"model", "info"});
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.err.find("give a URDF file or --robot NAME"), std::string::npos) << none.err;
+  const Result unknown = run({"model", "info", "--robot", "no_such_robot"});
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.err.find("--robot: robot 'no_such_robot' not found (searched: "), std::string::npos) << unknown.err;
 }
 
 TEST_F(ModelCli, BadFiles) {
@@ -257,12 +265,12 @@ TEST_F(ModelCli, RepairsAreWarnedListedAndRefusedByStrict) {
   const std::string p = path.string();
   const Result text = run({"model", "info", p});
   EXPECT_EQ(text.code, 0) << text.err;
-  EXPECT_NE(text.out.find("warning: " + p + ":10: link 'arm': inertia violates the triangle inequality " +
+  EXPECT_NE(text.err.find("warning: " + p + ":10: link 'arm': inertia violates the triangle inequality " +
                           "(principal moments 0.001 + 0.002 < 0.004 kg m^2, by 33.3 %): repaired by balanceinertia"),
             std::string::npos)
-      << text.out;
-  EXPECT_NE(text.out.find("warning: " + p + ":12: link 'sensor': moved by continuous joint 'tilt'"), std::string::npos)
-      << text.out;
+      << text.err;
+  EXPECT_NE(text.err.find("warning: " + p + ":12: link 'sensor': moved by continuous joint 'tilt'"), std::string::npos)
+      << text.err;
   EXPECT_NE(text.out.find("mass     2 kg"), std::string::npos) << text.out;
   const nlohmann::json j = info_json({p});
   ASSERT_EQ(j["repairs"].size(), 2u);
@@ -289,7 +297,7 @@ TEST_F(ModelCli, SimbodysAtlasLoadsWithWarningsAndStrictRefusesIt) {
   ASSERT_EQ(std::system(("gzip -dc " + quote(gz) + " > " + quote(p)).c_str()), 0);
   const Result text = run({"model", "info", p});
   EXPECT_EQ(text.code, 0) << text.err;
-  EXPECT_NE(text.out.find("link 'head': inertia violates the triangle inequality"), std::string::npos) << text.out;
+  EXPECT_NE(text.err.find("link 'head': inertia violates the triangle inequality"), std::string::npos) << text.err;
   const nlohmann::json j = info_json({p});
   EXPECT_EQ(j["dof"], 29);
   EXPECT_NEAR(j["total_mass_kg"].get<double>(), 159.854574, 1e-6);

@@ -33,7 +33,10 @@ class WorkspaceCli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
+  // DRACO's (--robot draco) unless the arguments name a URDF.
   Result run(std::vector<std::string> args) {
+    if (std::none_of(args.begin(), args.end(), [](const std::string& a) { return a.size() > 5 && a.rfind(".urdf") == a.size() - 5; }))
+      args.insert(args.begin(), {"--robot", "draco"});
     args.insert(args.begin(), {"model", "workspace"});
     return dmbd::cli_testing::run_dmbd(args, dir_, dir_ / "work");
   }
@@ -74,7 +77,7 @@ TEST_F(WorkspaceCli, DracoFootWritesTheMapsTheFigureAndTheJsonWithTheUrdfLimits)
   EXPECT_EQ(j["link"], "l_foot");
   EXPECT_EQ(j["relative_to"], "torso");
   // The joints and their limits as `dmbd model info --json` reads them.
-  const Result info = dmbd::cli_testing::run_dmbd({"model", "info", "--json"}, dir_);
+  const Result info = dmbd::cli_testing::run_dmbd({"model", "info", "--json", "--robot", "draco"}, dir_);
   ASSERT_EQ(info.code, 0) << info.err;
   const nlohmann::json robot = nlohmann::json::parse(info.out);
   const std::vector<std::string> chain{"l_hip_yaw", "l_hip_roll", "l_hip_pitch", "l_knee", "l_ankle"};

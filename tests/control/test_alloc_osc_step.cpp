@@ -11,6 +11,7 @@
 #include <cmath>
 #include <vector>
 
+#include "draco_options.hpp"
 #include "robot_files.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/robot_description.hpp"
@@ -30,6 +31,7 @@ TEST(NoAllocation, OscControllerStep) {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   X_WB.translation().z() = 1.3;
   OscSetup setup;
+  setup.link = "l_foot";
   setup.trajectory.amplitude_m = Eigen::Vector3d(0.15, 0, 0.05);
   setup.trajectory.frequency_hz = 0.5;
   setup.compensate_load_damping = true;
@@ -79,7 +81,7 @@ namespace {
 // replan) with either estimator; none allocates after the first.
 void expect_no_allocation_in_balance_steps(BalanceEstimator estimator, bool shipped_options) {
   const model::RobotDescription robot = model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
-  BalanceSetup setup;
+  BalanceSetup setup = dmbd::test::draco_balance_names();
   setup.estimator = estimator;
   setup.phases.joint_move_s = 0.05;
   setup.phases.body_lift_s = 0.05;

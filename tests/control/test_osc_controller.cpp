@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "draco_options.hpp"
 #include "robot_files.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/dynamics.hpp"
@@ -58,6 +59,7 @@ TEST(OscController, AtRestOnItsPathItCommandsGravityAndTheLinkageForce) {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   X_WB.translation().z() = 1.3;
   OscSetup setup;
+  setup.link = "l_foot";
   setup.trajectory.amplitude_m = Eigen::Vector3d(0.3, 0, 0);
   setup.trajectory.frequency_hz = 1.4;
   setup.compensate_load_damping = true;  // zero at rest
@@ -105,6 +107,7 @@ TEST(OscController, AtRestOnItsPathItCommandsGravityAndTheLinkageForce) {
 
 TEST(OscController, AnUnknownLinkIsNamedWhereTheScenarioGaveIt) {
   OscSetup setup;
+  setup.link = "l_foot";
   setup.link = "l_flipper";
   setup.where = "osc.yaml:12:3";
   try {

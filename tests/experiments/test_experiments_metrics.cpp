@@ -282,6 +282,8 @@ dmbd::scenario::Scenario balance_scenario() {
   s.file = "balance.yaml";
   s.experiment.type = "balance";
   s.experiment.number = {{"start_s", 4.0}};
+  s.experiment.names = {{"winding_joints", {"l_knee", "r_knee"}}};
+  s.experiment.text = {{"leg", "l_"}};
   s.variants.resize(3);
   s.variants[0].name = "height";
   // One starting and ending between the log's samples (found exactly); one pulling back.

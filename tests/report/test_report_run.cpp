@@ -17,6 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "dmbd/control/osc_controller.hpp"
 #include "sim_test_support.hpp"
 #include "dmbd/report/report.hpp"
 #include "dmbd/scenario/run_directory.hpp"
@@ -43,7 +44,7 @@ TEST(ReportFrames, FramesShowTheRobotMoving) {
   auto scenario = [&](bool locked) {
     const std::string path = dir.file(locked ? "still.yaml" : "swing.yaml");
     write_text(path, std::string("name: swing\n"
-                                 "robot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
+                                 "robot: {name: draco, base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
                                  "initial: {l_knee: 1.0}") +
                          (locked ? ", lock: {l_knee: 1.0}" : "") +
                          "}\n"
@@ -108,7 +109,7 @@ const Eigen::Vector3d kCameraPosition(1.6, -1.6, 1.0), kCameraLookAt(0, 0, 0.8);
 dmbd::scenario::ScenarioRun short_run(const TempDir& dir, const std::string& name, bool fixed) {
   const std::string path = dir.file(name + ".yaml");
   write_text(path, "name: " + name + "\n" +
-                       "robot: {base: " + (fixed ? "fixed" : "floating") +
+                       "robot: {name: draco, base: " + (fixed ? "fixed" : "floating") +
                        ", base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], initial: {l_knee: 1.0}}\n"
                        "duration_s: 0.1\n"
                        "references:\n"
@@ -180,6 +181,8 @@ TEST(ReportFrames, FixedBaseStandsOnATableFloatingBaseDoesNot) {
 TEST(ReportFrames, OscPathsInTheirColours) {
   TempDir dir;
   auto run = short_run(dir, "osc", true);
+  // The scenario's operational space controller declares the two paths (its overlays).
+  for (auto& v : run.scenario.variants) v.bus_controllers.push_back(std::make_shared<dmbd::control::OscSetup>());
   const dmbd::sim::Log& old = run.runs[0].log;
   const Eigen::Vector3d centre(0.35, 0, 0.7);
   const auto point = [&](double t, double radius) {
@@ -294,7 +297,7 @@ TEST(ReportRedraw, DmbdReportRedrawsTheShippedScenarioPixelForPixel) {
 TEST(ReportFiles, ListedFilesOnlyAndNoStaleFrames) {
   TempDir dir;
   const std::string path = dir.file("s.yaml");
-  write_text(path, "name: hold\nrobot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
+  write_text(path, "name: hold\nrobot: {name: draco, base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
                    "initial: {l_knee: 1.0}}\nduration_s: 0.2\nreferences:\n  l_knee.current: {type: constant, value: 2.0}\n"
                    "frames: {fps: 20, width: 160, height: 120}\n"
                    "plots:\n  - {title: Knee, y_label: rad, file: knee.png, signals: [l_knee.q]}\n");

@@ -4,7 +4,7 @@
 // runs: tests/report/.
 //
 // Scenarios are written into a temporary folder; they run the knee-only table robot
-// (robot: {moving: [l_knee], actuators: [l_knee]}) for a few tens of milliseconds.
+// (robot: {name: draco, moving: [l_knee], actuators: [l_knee]}) for a few tens of milliseconds.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -59,6 +59,7 @@ std::vector<std::string> split_csv(const std::string& line) {
 std::string base_scenario() {
   return "name: knee_hold\n"
          "robot:\n"
+         "  name: draco\n"
          "  base: fixed\n"
          "  base_pose: {xyz: [0, 0, 1.3]}\n"
          "  moving: [l_knee]\n"
@@ -367,7 +368,7 @@ TEST(SimScenarioLoad, FileNamesTooLongForTheSystemAreLocatedErrors) {
   TempDir dir;
   const std::string path = dir.file("s.yaml");
   const std::string long_name = std::string(300, 'a') + ".yaml";
-  check_load_error(path, {"urdf", replace_line(base_scenario(), "  base: fixed", "  base: fixed\n  urdf: " + long_name), "urdf:",
+  check_load_error(path, {"urdf", replace_line(base_scenario(), "  name: draco", "  urdf: " + long_name), "urdf:",
                           "robot.urdf: cannot use the file"});
   check_load_error(path, {"diagram", replace_line(base_scenario(), "    diagram: " + kEncoderController, "    diagram: " + long_name),
                           "diagram: aaa", "cannot use the file"});
@@ -474,7 +475,7 @@ TEST(SimScenarioVariants, MatrixNamesOverridesAndCombinedCsv) {
                        "  load:\n"
                        "    - name: x\n"
                        "    - name: y\n"
-                       "      robot: {lock: {l_knee: 1.0}}\n");
+                       "      robot: {name: draco, lock: {l_knee: 1.0}}\n");
   const Scenario s = load_scenario(path);
   ASSERT_EQ(s.variants.size(), 4u);
   const std::vector<std::string> names = {"a/x", "a/y", "b/x", "b/y"};
@@ -621,7 +622,7 @@ TEST(SimScenarioDivergence, ADivergingVariantIsAnInputErrorNamingScenarioAndVari
   const std::string path = dir.file("unstable.yaml");
   write_text(path,
              "name: unstable\n"
-             "robot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], initial: {l_knee: 1.0}}\n"
+             "robot: {name: draco, base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], initial: {l_knee: 1.0}}\n"
              "duration_s: 0.5\n"
              "variants:\n"
              "  - name: calm\n"
@@ -660,7 +661,7 @@ TEST(SimScenarioExperiments, ThermalRmsCurrentIsExact) {
   const std::string path = dir.file("heat.yaml");
   write_text(path,
              "name: heat\n"
-             "robot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], initial: {l_knee: 1.0}, "
+             "robot: {name: draco, base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], initial: {l_knee: 1.0}, "
              "lock: {l_knee: 1.0}}\n"
              "duration_s: 0.1\n"
              "log_rate_hz: 2000\n"
@@ -734,7 +735,7 @@ TEST(SimScenarioRun, FixedPointBoundIsReportedAndABoundBeyondTheRangeWarns) {
   TempDir dir;
   auto scenario = [&](int bits) {
     const std::string path = dir.file("f" + std::to_string(bits) + ".yaml");
-    write_text(path, "name: fd\nrobot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
+    write_text(path, "name: fd\nrobot: {name: draco, base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
                      "initial: {l_knee: 1.0}, lock: {l_knee: 1.0}}\nduration_s: 0.05\nreferences:\n  F_d: {type: constant, value: 100}\n"
                      "controllers:\n  - name: force\n    diagram: " + kSourceDir + "/examples/diagrams/dob_controller.yaml\n"
                      "    rate_hz: 2000\n    scalar: fixed\n    word_bits: " + std::to_string(bits) + "\n"

@@ -184,6 +184,7 @@ TEST(SimSil, FloatAndDoubleLogsDiffer) {
 std::string knee_scenario(const std::string& implementation) {
   return "name: knee_hold\n"
          "robot:\n"
+         "  name: draco\n"
          "  base: fixed\n"
          "  base_pose: {xyz: [0, 0, 1.3]}\n"
          "  moving: [l_knee]\n"
@@ -208,7 +209,7 @@ TEST(SimSil, AnImplementationThatIsNeitherIsALocatedError) {
     (void)dmbd::scenario::load_scenario(path);
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), path + ":14:21: controller.implementation: expected interpreter or generated, got 'compiled'");
+    EXPECT_EQ(std::string(e.what()), path + ":15:21: controller.implementation: expected interpreter or generated, got 'compiled'");
   }
   write_text(path, knee_scenario("[generated]"));
   try {
@@ -216,7 +217,7 @@ TEST(SimSil, AnImplementationThatIsNeitherIsALocatedError) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     const std::string m = e.what();
-    EXPECT_EQ(m.rfind(path + ":14:21: controller.implementation: ", 0), 0u) << m;
+    EXPECT_EQ(m.rfind(path + ":15:21: controller.implementation: ", 0), 0u) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   }
   write_text(path, knee_scenario("interpreter"));
@@ -269,7 +270,7 @@ TEST(SimSil, ACompilerThatFailsIsALocatedOneLineError) {
       const std::string m = e.what();
       remove_failed_build(m);
       EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-      EXPECT_EQ(m.rfind(path + ": variant 'base': " + path + ":12:11: controller 'position': the generated code does not compile (" + cxx +
+      EXPECT_EQ(m.rfind(path + ": variant 'base': " + path + ":13:11: controller 'position': the generated code does not compile (" + cxx +
                             "): ",
                         0),
                 0u)
@@ -298,7 +299,7 @@ TEST(SimSil, TheCommandLineExits2OnACompilerError) {
   const std::string err = read_text(dir.file("stderr"));
   remove_failed_build(err);
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-  EXPECT_EQ(err.rfind("dmbd: error: " + path + ": variant 'base': " + path + ":12:11: controller 'position': the generated code does not compile", 0),
+  EXPECT_EQ(err.rfind("dmbd: error: " + path + ": variant 'base': " + path + ":13:11: controller 'position': the generated code does not compile", 0),
             0u)
       << err;
   EXPECT_NE(err.find("#error this compiler refuses the generated code"), std::string::npos) << err;

@@ -56,7 +56,7 @@ using dmbd::sim::Source;
 constexpr double kPi = 3.14159265358979323846;
 const std::string kSourceDir = DMBD_SOURCE_DIR;
 
-// The knee-only table robot (as robot: {moving: [l_knee], actuators: [l_knee]} with the
+// The knee-only table robot (as robot: {name: draco, moving: [l_knee], actuators: [l_knee]} with the
 // torso fixed at 1.3 m), the knee at q0.
 std::unique_ptr<dmbd::model::Plant> knee_plant(double q0 = 1.0) {
   namespace m = dmbd::model;
@@ -483,7 +483,7 @@ TEST(SimDeterminism, NoisyRunsRepeatBitForBit) {
   const std::string path = dir.file("noisy.yaml");
   auto scenario_text = [&](int seed) {
     return "name: noisy\n"
-           "robot: {base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], initial: {l_knee: 1.0}}\n"
+           "robot: {name: draco, base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], initial: {l_knee: 1.0}}\n"
            "sensors: {noise: true, seed: " +
            std::to_string(seed) +
            ", force_noise_N: 5}\n"

@@ -48,10 +48,11 @@ struct BusControllerContext {
 // `signals` must be read by another controller (the joint's loop) or be a plant input
 // (J.torque, J.current).
 struct JointCommand {
-  std::string joint;
-  std::vector<std::string> signals;
+  std::string joint;                 // the joint's name
+  std::vector<std::string> signals;  // the bus signals any one of which must reach it
 };
 
+// The base of every bus controller: ports, timing, commands, what it records.
 class BusController : public sim::Controller {
  public:
   // Ticks at options.rate_hz; keeps the wall time of up to max_ticks ticks.
@@ -81,9 +82,11 @@ class BusController : public sim::Controller {
  protected:
   // The ports, in order (each a bus signal's name), and the units of the outputs.
   void add_input(const std::string& signal) { inputs_.push_back(signal); }
+  // Adds an output port driving `signal` (its unit, for the log).
   void add_output(const std::string& signal, const std::string& unit);
   // One tick at t = ticks() / rate_hz(): reads u[0 .. num_inputs), writes y. No allocation.
   virtual void tick(const double* u, double* y) = 0;
+  // Ticks completed before this one (tick() of the k-th tick sees k).
   long long ticks() const { return ticks_; }
 
  private:

@@ -17,6 +17,7 @@
 
 namespace dmbd::control {
 
+// A bus controller type: reads its options, builds its controller, says what to draw.
 class BusControllerType {
  public:
   virtual ~BusControllerType() = default;

@@ -11,6 +11,7 @@
 
 namespace dmbd::sim {
 
+// The longest run the nanosecond grid holds, s.
 constexpr double kMaxDurationS = 1e9;
 
 // Why `rate_hz` cannot be a rate of the grid ("" when it can), e.g. "a rate of 1500.5

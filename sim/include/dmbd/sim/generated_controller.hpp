@@ -1,9 +1,9 @@
 #pragma once
-// Internal to sim/: software in the loop. A scenario controller run as its generated
+// Software in the loop: a scenario controller run as its generated
 // code instead of by the interpreter: the header codegen emits for its loop program
 // (emit_header in double or float, emit_fixed_header in fixed point), a shim of
-// extern "C" functions around <name>::Controller, compiled by the system compiler into
-// a shared object and loaded (sil_build.hpp). At each tick the simulation calls its
+// extern "C" functions around the generated class (the program's Controller), compiled by
+// the system compiler into a shared object and loaded (shared_object.hpp). At each tick the simulation calls its
 // step_real() where it would call the interpreter: the same double inputs, converted
 // as the interpreter converts them (float: cast; fixed point: the runtime's quantiser),
 // the same double outputs. No allocation in a step.
@@ -20,8 +20,8 @@ namespace dmbd::sim {
 
 // What a generated controller is made of.
 struct GeneratedSource {
-  std::shared_ptr<const codegen::LoopProgram> program;
-  Scalar scalar = Scalar::Double;
+  std::shared_ptr<const codegen::LoopProgram> program;  // the loop program
+  Scalar scalar = Scalar::Double;                       // its arithmetic
   std::shared_ptr<const codegen::FixedProgram> fixed;  // fixed point: the program's fixed form
   std::string origin;                                  // the diagram file, for the header's comment
 };
@@ -30,6 +30,7 @@ struct GeneratedSource {
 // it) and sil_NAME.cpp (the shim). InputError when the program cannot be emitted.
 SharedObjectSource sil_source(const GeneratedSource& g);
 
+// A loop program run as its generated code, compiled and loaded (a sim::Controller).
 class GeneratedController : public Controller {
  public:
   // `b` must hold an object built from sil_source(g).
@@ -51,7 +52,9 @@ class GeneratedController : public Controller {
   // Fixed point: the words the generated code saturated since it was made (its
   // saturations()); none in double or float.
   std::optional<unsigned long long> saturations() const;
+  // What it was generated from.
   const GeneratedSource& source() const { return source_; }
+  // The shared object it runs, and its compiler.
   const SharedObjectBuild& build() const { return build_; }
 
  private:

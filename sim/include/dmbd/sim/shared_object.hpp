@@ -1,5 +1,5 @@
 #pragma once
-// Internal to sim/: C++ source compiled by the system compiler into a shared object
+// C++ source compiled by the system compiler into a shared object
 // while the program runs, and loaded (software in the loop: sil_controller.hpp).
 //
 // The compiler is $CXX when set (a command, as make takes it), else `c++`, with
@@ -23,6 +23,7 @@ namespace dmbd::sim {
 constexpr const char* kSharedObjectFlags =
     "-std=c++11 -O2 -fPIC -shared -fvisibility=hidden -fno-exceptions -fno-rtti -ffp-contract=off -Wall -Wextra -Werror";
 
+// The system compiler a shared object is built with.
 struct Compiler {
   std::string command;  // $CXX or "c++"
   std::string version;  // the first line of `command --version` ("" when it gives none)
@@ -50,12 +51,14 @@ class SharedObject {
   std::string folder_;
 };
 
+// What a shared object is built from: its files, written side by side.
 struct SharedObjectSource {
   std::string name;                                         // names the build folder and the object
   std::vector<std::pair<std::string, std::string>> files;  // file name -> text, written side by side
   std::string main;                                         // the file compiled (one of `files`)
 };
 
+// A shared object built (or why not).
 struct SharedObjectBuild {
   std::shared_ptr<const SharedObject> object;  // null when it did not build
   Compiler compiler;      // what built it
