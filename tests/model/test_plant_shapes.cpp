@@ -220,6 +220,43 @@ TEST(PlantShapes, BoxStaysPutOnASlopeAtItsSinkageAlongTheNormal) {
   EXPECT_LT(err, 1e-3);               // the friction moment tilts it by ~1e-3 rad: second order
 }
 
+// Three spheres under a body (a tripod) on a 10-degree slope: placed along n, each sinks
+// by the Hertz deflection of a third of m g cos(theta); with mu = 0.8 the tripod sticks
+// and stays at that height along n.
+TEST(PlantShapes, SphereTripodOnASlopeIsPlacedAlongTheNormal) {
+  const double R = 0.03, m = 6, theta = 10 * kPi / 180;
+  RobotDescription r;
+  r.name = "tripod";
+  Link l;
+  l.name = "body";
+  l.mass_kg = m;
+  l.inertia_kgm2 = Eigen::Vector3d(0.05, 0.05, 0.08).asDiagonal();
+  for (int k = 0; k < 3; ++k) {
+    Shape s;
+    s.geometry.kind = Geometry::Kind::Sphere;
+    s.geometry.radius_m = R;
+    s.X_LG.translation() = 0.15 * Eigen::Vector3d(std::cos(2 * kPi * k / 3), std::sin(2 * kPi * k / 3), 0);
+    l.collisions.push_back(s);
+  }
+  r.links.push_back(l);
+  PlantOptions o = with(Integration::Fixed);
+  o.ground_normal = Eigen::Vector3d(-std::sin(theta), 0, std::cos(theta));
+  o.X_WB = rotated(Eigen::Vector3d::UnitY(), -theta);
+  Plant p(r, o);
+  // The Hertz sinkage, from its closed form c = 4/3 k sqrt(R k), k = E^(2/3) / 2.
+  const double k = 0.5 * std::cbrt(o.contact_params.stiffness_Pa * o.contact_params.stiffness_Pa);
+  const double x = std::pow(m * kG * std::cos(theta) / 3 / (4.0 / 3.0 * k * std::sqrt(R * k)), 2.0 / 3.0);
+  const double placed = std::abs(o.ground_normal.dot(p.base_pose().translation()) - (R - x)) / x;
+  const Eigen::Vector3d c0 = p.base_pose().translation();
+  p.advance_to(1.0);
+  const double settled = std::abs(o.ground_normal.dot(p.base_pose().translation()) - (R - x)) / x;
+  std::printf("sphere tripod on a 10-degree slope: sinkage %.4f mm; placed %.2g, after 1 s %.2g of it off; moved %.2e m\n",
+              x * 1e3, placed, settled, (p.base_pose().translation() - c0).norm());
+  EXPECT_LT(placed, 1e-9);
+  EXPECT_LT(settled, 1e-3);  // sticks: the friction moment tilts it to second order
+  EXPECT_LT((p.base_pose().translation() - c0).norm(), 1e-3);
+}
+
 // No damping, no friction, accurate integration: a tilted box and a tilted cylinder
 // dropped 3 cm bounce on their springs; the total energy stays.
 TEST(PlantShapes, UndampedDropsConserveEnergy) {

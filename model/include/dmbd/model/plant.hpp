@@ -1,7 +1,7 @@
 #pragma once
 // The simulated robot: the URDF's multibody tree plus DRACO's series-elastic actuators
-// (rotor, ball screw, elastomer, linkage), joint limits and damping, and compliant foot
-// contact, in generalized coordinates without constraints. Eigen types only; Simbody
+// (rotor, ball screw, elastomer, linkage), joint limits and damping, and compliant ground
+// contact of every collision shape, in generalized coordinates without constraints. Eigen types only; Simbody
 // stays in model/src/ (it realises the tree's kinematics).
 //
 // Inputs are held constant between calls to advance_to() (zero-order hold, as a
