@@ -67,6 +67,19 @@ StopTorque stop_torque(double q, double qd, double lo, double hi, double k, doub
   return s;
 }
 
+// The contact parameters of boxes, meshes and cylinders: stiffnesses positive, the
+// dissipation not negative, all finite.
+void check_contact_params(const ContactParams& c) {
+  auto check = [](double v, bool zero_ok, const char* name) {
+    if (!std::isfinite(v) || v < 0 || (!zero_ok && v == 0))
+      throw ModelError(std::string("plant: contact_params.") + name + " = " + std::to_string(v) + " (expected " +
+                       (zero_ok ? "a finite value >= 0)" : "a finite value > 0)"));
+  };
+  check(c.point_stiffness_N_per_m, false, "point_stiffness_N_per_m");
+  check(c.point_dissipation_s_per_m, true, "point_dissipation_s_per_m");
+  check(c.rim_stiffness_N_per_m2, false, "rim_stiffness_N_per_m2");
+}
+
 }  // namespace
 
 PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
@@ -97,7 +110,10 @@ PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
                 o.joint_damping ? jt.damping : 0.0};
     if (s.limited || s.damping > 0) stops_.push_back(s);
   }
-  if (o.contact) contact_ = detail::contact_elements(r, kernel_);
+  if (o.contact) {
+    check_contact_params(o.contact_params);
+    contact_ = detail::contact_elements(r, kernel_);
+  }
   anchors.assign(contact_.spheres.size(), SphereAnchor{});
   point_anchors.assign(contact_.points.size(), SphereAnchor{});
   rim_friction.assign(contact_.rims.size(), RimFriction{});

@@ -5,6 +5,7 @@
 // at mu g, a cylinder rolling down a slope at (2/3) g sin(theta) and sliding down a steeper
 // one at g (sin - mu cos), a box at rest on a slope, the energy of undamped drops, a mesh
 // decimated to 64 hull points with one warning, a missing collision mesh skipped.
+#include "dmbd/model/error.hpp"
 #include "dmbd/model/plant.hpp"
 
 #include "contact_fixtures.hpp"
@@ -131,6 +132,35 @@ TEST(PlantShapes, MissingCollisionMeshIsSkippedWithOneWarning) {
   Plant p(r, o);
   EXPECT_TRUE(p.contacts().empty());
   EXPECT_EQ(p.base_pose().translation().z(), 1.0);  // nothing to place on the ground
+}
+
+TEST(PlantShapes, RefusesBadContactParametersAndADownwardGround) {
+  const RobotDescription r = testing::single_body(testing::box_xml({0.1, 0.1, 0.1}), 1.0, Eigen::Vector3d::Constant(1e-3));
+  auto error = [&](PlantOptions o) {
+    try {
+      Plant p(r, o);
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  PlantOptions o;
+  o.contact_params.point_stiffness_N_per_m = -1e5;
+  EXPECT_EQ(error(o).rfind("plant: contact_params.point_stiffness_N_per_m = -100000", 0), 0u) << error(o);
+  o = {};
+  o.contact_params.rim_stiffness_N_per_m2 = 0;
+  EXPECT_NE(error(o).find("rim_stiffness_N_per_m2 = 0.000000 (expected a finite value > 0)"), std::string::npos) << error(o);
+  o = {};
+  o.contact_params.point_dissipation_s_per_m = std::nan("");
+  EXPECT_NE(error(o).find("point_dissipation_s_per_m"), std::string::npos) << error(o);
+  o = {};
+  o.ground_normal = Eigen::Vector3d(0, 0.2, -1);
+  EXPECT_NE(error(o).find("ground_normal (0.000000, 0.200000, -1.000000) is not a finite upward direction"), std::string::npos)
+      << error(o);
+  o = {};
+  o.contact = false;
+  o.contact_params.point_stiffness_N_per_m = -1;  // no contact: not used
+  EXPECT_EQ(error(o), "(accepted)");
 }
 
 // Pushed at its centre of mass to 1.2 m/s, then let go: it decelerates at mu g
