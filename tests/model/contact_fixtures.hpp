@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace dmbd::model::testing {
@@ -46,12 +47,20 @@ inline std::string cylinder_xml(double R, double L) {
   return "<cylinder radius=\"" + num(R) + "\" length=\"" + num(L) + "\"/>";
 }
 
-// A fresh temporary folder for mesh files.
-inline std::string temp_dir(const std::string& tag) {
-  const std::filesystem::path d = std::filesystem::temp_directory_path() / ("dmbd_" + tag + "_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(d);
-  return d.string();
-}
+// A fresh temporary folder for mesh files, removed with it.
+struct TempDir {
+  std::string path;
+  explicit TempDir(const std::string& tag)
+      : path((std::filesystem::temp_directory_path() / ("dmbd_" + tag + "_" + std::to_string(::getpid()))).string()) {
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
 
 inline void write_obj(const std::string& path, const std::vector<Eigen::Vector3d>& v, const std::vector<Eigen::Vector3i>& f) {
   std::ofstream out(path);

@@ -74,7 +74,8 @@ TEST(PlantRobots, HopperStandsOnACylinderFoot) {
 }
 
 TEST(PlantRobots, HopperStandsOnAMeshFoot) {
-  const std::string dir = testing::temp_dir("hopper_mesh");
+  const testing::TempDir tmp("hopper_mesh");
+  const std::string& dir = tmp.path;
   testing::write_box_obj(dir + "/foot.obj", {0.24, 0.12, 0.06});
   stand(testing::hopper("<mesh filename=\"foot.obj\"/>", dir), "mesh");
 }

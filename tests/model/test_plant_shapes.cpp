@@ -69,7 +69,8 @@ TEST(PlantShapes, BoxRestsAtHalfItsHeightMinusWeightOverFourK) {
 }
 
 TEST(PlantShapes, BoxMeshRestsLikeTheBox) {
-  const std::string dir = testing::temp_dir("box_mesh");
+  const testing::TempDir tmp("box_mesh");
+  const std::string& dir = tmp.path;
   const Eigen::Vector3d s(0.2, 0.15, 0.05);
   testing::write_box_obj(dir + "/box.obj", s);
   const double m = 10;
@@ -105,7 +106,8 @@ TEST(PlantShapes, CylinderRestsOnItsFaceAndOnItsSide) {
 }
 
 TEST(PlantShapes, MeshWithMoreThan64HullVerticesKeeps64AndWarnsOnce) {
-  const std::string dir = testing::temp_dir("ball_mesh");
+  const testing::TempDir tmp("ball_mesh");
+  const std::string& dir = tmp.path;
   testing::write_sphere_obj(dir + "/ball.obj", 0.05, 15, 24);  // 362 vertices, all on the hull
   const RobotDescription r = testing::single_body("<mesh filename=\"ball.obj\"/>", 1.0, Eigen::Vector3d::Constant(1e-3), dir);
   const std::vector<Eigen::Vector3d>& hull = r.links[0].collisions[0].geometry.hull_m;
@@ -122,7 +124,8 @@ TEST(PlantShapes, MeshWithMoreThan64HullVerticesKeeps64AndWarnsOnce) {
 }
 
 TEST(PlantShapes, MissingCollisionMeshIsSkippedWithOneWarning) {
-  const std::string dir = testing::temp_dir("no_mesh");
+  const testing::TempDir tmp("no_mesh");
+  const std::string& dir = tmp.path;
   const RobotDescription r = testing::single_body("<mesh filename=\"nothere.obj\"/>", 1.0, Eigen::Vector3d::Constant(1e-3), dir);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_EQ(r.warnings[0].rfind(dir + "/body.urdf:6: link 'body': ", 0), 0u) << r.warnings[0];
