@@ -30,10 +30,34 @@ SphereContact sphere_contact(const ContactParams& p, double radius_m, double pen
   c.K(2, 2) = 1.5 * hz * std::sqrt(x) * damping;
   c.D(2, 2) = 1.5 * p.dissipation_s_per_m * elastic;
   c.force_W.z() = c.normal_force_N;
+  anchor_friction(p, anchor_offset, velocity_W.head<2>(), c);
+  return c;
+}
 
+ContactForce point_contact(const ContactParams& p, double penetration_m, const Eigen::Vector3d& velocity_G,
+                           const Eigen::Vector2d& anchor_offset) {
+  ContactForce c;
+  if (!(penetration_m > 0)) return c;
+  c.touching = true;
+  c.penetration_m = penetration_m;
+  const double x = penetration_m, xdot = -velocity_G.z(), k = p.point_stiffness_N_per_m;
+  const double elastic = k * x;
+  const double damping = 1.0 + p.point_dissipation_s_per_m * xdot;
+  c.potential_J = 0.5 * elastic * x;  // integral of k x dx
+  if (damping <= 0) return c;         // no pull
+  c.normal_force_N = elastic * damping;
+  c.K(2, 2) = k * damping;
+  c.D(2, 2) = p.point_dissipation_s_per_m * elastic;
+  c.force_W.z() = c.normal_force_N;
+  anchor_friction(p, anchor_offset, velocity_G.head<2>(), c);
+  return c;
+}
+
+void anchor_friction(const ContactParams& p, const Eigen::Vector2d& anchor_offset, const Eigen::Vector2d& velocity_t,
+                     ContactForce& c) {
   const double cap = p.friction * c.normal_force_N;
   const double kt = cap / p.stiction_displacement_m, dt = cap / p.stiction_velocity_m_s;
-  Eigen::Vector2d ft = -kt * anchor_offset - dt * velocity_W.head<2>();
+  Eigen::Vector2d ft = -kt * anchor_offset - dt * velocity_t;
   const double norm = ft.norm();
   c.potential_J += 0.5 * kt * anchor_offset.squaredNorm();
   if (norm > cap) {
@@ -44,7 +68,6 @@ SphereContact sphere_contact(const ContactParams& p, double radius_m, double pen
     c.D(0, 0) = c.D(1, 1) = dt;
   }
   c.force_W.head<2>() = ft;
-  return c;
 }
 
 Eigen::Vector2d slide_anchor(const ContactParams& p, double normal_force_N, const Eigen::Vector2d& anchor_offset) {

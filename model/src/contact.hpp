@@ -1,13 +1,15 @@
 #pragma once
-// Internal to model/: sphere-on-ground contact (the ground is the plane z = 0), the law
-// both steppers use. Eigen only.
+// Internal to model/: the point contact laws both steppers use, written in the ground's
+// frame (ground_frame.hpp): x, y along the ground, z along its normal. Eigen only.
 //
-// Normal: Hunt-Crossley on the Hertz law of a sphere of radius R pressed into a flat,
-//   F_n = c x^{3/2} (1 + 3/2 d xdot),  c = 4/3 k sqrt(R k),  k = E^{2/3} / 2,
+// Sphere. Normal: Hunt-Crossley on the Hertz law of a sphere of radius R pressed into a
+//   flat, F_n = c x^{3/2} (1 + 3/2 d xdot),  c = 4/3 k sqrt(R k),  k = E^{2/3} / 2,
 // with x the penetration, xdot its rate, E the plane-strain modulus and d the
 // dissipation (s/m): the constants of Simbody's SmoothSphereHalfSpaceForce, so the
 // sinkage is that of the earlier model. F_n >= 0 (no pull when separating fast).
-// Friction: a tangential spring-damper from the contact point to an anchor on the
+// Point (a box corner, a mesh's hull vertex). Normal: linear Hunt-Crossley,
+//   F_n = k x (1 + d xdot),  F_n >= 0,  k = point_stiffness_N_per_m, d = point_dissipation_s_per_m.
+// Friction (both): a tangential spring-damper from the contact point to an anchor on the
 // ground, f_t = -k_t (p - a) - d_t v_t, capped by the Coulomb cone |f_t| <= mu F_n,
 // with k_t = mu F_n / delta_s and d_t = mu F_n / v_s in proportion to the load: the
 // damping is regularised Coulomb friction's slope (v_s = 0.01 m/s, as before), the
@@ -23,7 +25,7 @@
 
 namespace dmbd::model::detail {
 
-struct SphereContact {
+struct ContactForce {
   bool touching = false;
   bool sliding = false;
   double penetration_m = 0;
@@ -34,18 +36,29 @@ struct SphereContact {
   // friction's dependence on the penetration through F_n, (f_t / F_n) dF_n/dx.
   Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d D = Eigen::Matrix3d::Zero();
-  double potential_J = 0;                             // Hertz and tangential-spring energy
+  double potential_J = 0;                             // normal and tangential-spring energy
 };
+using SphereContact = ContactForce;
 
 // Hertz constant c (N/m^1.5) of a sphere of radius R on a flat of modulus E.
 double hertz_constant(double radius_m, double stiffness_Pa);
 // Penetration of that sphere under a static load (m).
 double hertz_sinkage(double force_N, double radius_m, double stiffness_Pa);
 
-// The force at a contact point of the sphere's body (world), given the penetration
-// (> 0 when touching), the point's velocity and its offset from the anchor (x, y).
+// The force at a contact point of the sphere's body (ground frame), given the
+// penetration (> 0 when touching), the point's velocity and its offset from the anchor
+// (x, y).
 SphereContact sphere_contact(const ContactParams& p, double radius_m, double penetration_m,
                              const Eigen::Vector3d& velocity_W, const Eigen::Vector2d& anchor_offset);
+
+// The same for a point contact (linear normal law), ground frame.
+ContactForce point_contact(const ContactParams& p, double penetration_m, const Eigen::Vector3d& velocity_G,
+                           const Eigen::Vector2d& anchor_offset);
+
+// The anchor friction of a contact whose normal force c.normal_force_N is set: writes
+// the tangential force, its stick K and D, `sliding`, and adds the spring's energy.
+void anchor_friction(const ContactParams& p, const Eigen::Vector2d& anchor_offset, const Eigen::Vector2d& velocity_t,
+                     ContactForce& c);
 
 // The anchor offset after the return map: unchanged while the spring force stays inside
 // the cone, else shortened along itself to k_t |offset| = mu F_n (|offset| = delta_s).

@@ -52,11 +52,23 @@ struct Plant::Impl {
     }
     sync();
   }
-  // Floating base: lowest collision spheres sink by the static deflection of their share
-  // of the weight.
+  // Floating base: moved along the ground normal so that the contacts' static normal
+  // forces carry the weight's normal component (docs/model.md, "Contact").
   void place_on_ground() {
-    if (!dyn.kernel().base_dofs() || dyn.spheres().empty()) return;
+    const detail::ContactElements& ce = dyn.contact_elements();
+    if (!dyn.kernel().base_dofs() || ce.shapes.empty()) return;
     sync();
+    const bool spheres_only = ce.points.empty() && ce.rims.empty();
+    const double lift = spheres_only && dyn.ground().is_z() ? sphere_lift() : contact_lift();
+    Eigen::Isometry3d X = dyn.kernel().pose(root_body());
+    if (dyn.ground().is_z()) X.translation().z() += lift;
+    else X.translation() += lift * dyn.ground().n();
+    dyn.kernel().set_base_pose(Q.head(dyn.tree_nq()), X);
+  }
+  // Spheres on level ground (the rule before other shapes could touch, kept bit for bit):
+  // the lowest spheres (within 1 nm) share the weight equally and sink by its Hertz
+  // deflection.
+  double sphere_lift() const {
     double lowest = std::numeric_limits<double>::infinity(), radius = 0;
     int touching = 0;
     for (const auto& sp : dyn.spheres()) lowest = std::min(lowest, dyn.world_point(sp.body, sp.center_B).z() - sp.radius_m);
@@ -66,9 +78,20 @@ struct Plant::Impl {
         radius = sp.radius_m;
       }
     const double sink = detail::hertz_sinkage(dyn.total_mass_kg() * opt.gravity_m_s2 / touching, radius, opt.contact_params.stiffness_Pa);
-    Eigen::Isometry3d X = dyn.kernel().pose(root_body());
-    X.translation().z() += -lowest - sink;
-    dyn.kernel().set_base_pose(Q.head(dyn.tree_nq()), X);
+    return -lowest - sink;
+  }
+  // Any elements: the lift along n at which the static loads sum to m g n_z, by bisection
+  // (the load falls monotonically with the lift, to zero at -lowest).
+  double contact_lift() const {
+    const double weight = dyn.total_mass_kg() * opt.gravity_m_s2 * dyn.ground().n().z();
+    double hi = -dyn.lowest_contact_height(), lo = hi - 1e-3;
+    while (dyn.static_contact_load(lo) < weight && hi - lo < 10.0) lo = hi - 2 * (hi - lo);
+    for (int k = 0; k < 200; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      if (mid <= lo || mid >= hi) break;
+      (dyn.static_contact_load(mid) < weight ? hi : lo) = mid;
+    }
+    return 0.5 * (lo + hi);
   }
   [[noreturn]] void diverged(const std::string& why) const {
     throw ModelError("simulation diverged at t = " + std::to_string(t) + " s: " + why);
@@ -117,7 +140,7 @@ void Plant::reset() {
   m.dyn.kernel().set_base_pose(m.Q.head(m.dyn.tree_nq()), m.opt.X_WB);
   m.V.setZero();
   std::fill(m.locked.begin(), m.locked.end(), 0);
-  for (auto& a : m.dyn.anchors) a = detail::SphereAnchor{};
+  m.dyn.reset_anchors();
   m.place_on_ground();
   m.sync();
 }
@@ -253,14 +276,8 @@ std::vector<Eigen::Isometry3d> Plant::link_poses() const {
 std::vector<ContactReading> Plant::contacts() const {
   const Impl& m = *impl_;
   std::vector<ContactReading> out;
-  for (std::size_t i = 0; i < m.dyn.spheres().size(); ++i) {
-    ContactReading c;
-    const detail::SphereContact sc = m.dyn.sphere_contact_now(static_cast<int>(i), &c.p_W);
-    c.link = m.dyn.spheres()[i].link;
-    c.force_W = sc.force_W;
-    c.penetration_m = sc.penetration_m;
-    out.push_back(c);
-  }
+  const int n = static_cast<int>(m.dyn.contact_elements().shapes.size());
+  for (int i = 0; i < n; ++i) out.push_back(m.dyn.contact_reading(i));
   return out;
 }
 Eigen::Vector3d Plant::com_position() const {

@@ -67,10 +67,23 @@ StopTorque stop_torque(double q, double qd, double lo, double hi, double k, doub
   return s;
 }
 
+// The contact parameters of boxes, meshes and cylinders: stiffnesses positive, the
+// dissipation not negative, all finite.
+void check_contact_params(const ContactParams& c) {
+  auto check = [](double v, bool zero_ok, const char* name) {
+    if (!std::isfinite(v) || v < 0 || (!zero_ok && v == 0))
+      throw ModelError(std::string("plant: contact_params.") + name + " = " + std::to_string(v) + " (expected " +
+                       (zero_ok ? "a finite value >= 0)" : "a finite value > 0)"));
+  };
+  check(c.point_stiffness_N_per_m, false, "point_stiffness_N_per_m");
+  check(c.point_dissipation_s_per_m, true, "point_dissipation_s_per_m");
+  check(c.rim_stiffness_N_per_m2, false, "rim_stiffness_N_per_m2");
+}
+
 }  // namespace
 
 PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
-    : kernel_(r, o.base, o.X_WB, o.gravity_m_s2, taken_mass(r, o)), opt_(o), acts_(o.actuators) {
+    : kernel_(r, o.base, o.X_WB, o.gravity_m_s2, taken_mass(r, o)), opt_(o), acts_(o.actuators), ground_(o.ground_normal) {
   ntq_ = kernel_.nq();
   ntv_ = kernel_.nv();
   na_ = static_cast<int>(acts_.size());
@@ -97,13 +110,13 @@ PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
                 o.joint_damping ? jt.damping : 0.0};
     if (s.limited || s.damping > 0) stops_.push_back(s);
   }
-  if (o.contact)
-    for (std::size_t l = 0; l < r.links.size(); ++l)
-      for (const Shape& sh : r.links[l].collisions)
-        if (sh.geometry.kind == Geometry::Kind::Sphere)
-          spheres_.push_back({static_cast<int>(l), kernel_.body_of_link(static_cast<int>(l)),
-                              Eigen::Vector3d(sh.X_LG.translation()), sh.geometry.radius_m});
-  anchors.assign(spheres_.size(), SphereAnchor{});
+  if (o.contact) {
+    check_contact_params(o.contact_params);
+    contact_ = detail::contact_elements(r, kernel_);
+  }
+  anchors.assign(contact_.spheres.size(), SphereAnchor{});
+  point_anchors.assign(contact_.points.size(), SphereAnchor{});
+  rim_friction.assign(contact_.rims.size(), RimFriction{});
   currents = Eigen::VectorXd::Zero(na_);
   joint_torques = Eigen::VectorXd::Zero(nj);
   external.reserve(16);
@@ -113,6 +126,7 @@ PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
   r_ = kv_ = Eigen::VectorXd::Zero(nv());
   c_tree_ = Eigen::VectorXd::Zero(ntv_);
   G_ = WG_ = Eigen::Matrix3Xd::Zero(3, nv());
+  J6_ = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, nv());
   idx_.reserve(static_cast<std::size_t>(nv()));
 }
 
@@ -200,24 +214,6 @@ void PlantDynamics::add_housings() {
   }
 }
 
-void PlantDynamics::add_contacts(double h) {
-  for (std::size_t i = 0; i < spheres_.size(); ++i) {
-    const ContactSphere& sp = spheres_[i];
-    const Eigen::Vector3d center = world_point(sp.body, sp.center_B);
-    const double pen = sp.radius_m - center.z();
-    if (!(pen > 0)) continue;
-    const Eigen::Vector3d p = center - sp.radius_m * Eigen::Vector3d::UnitZ();
-    const std::vector<int>& mob = kernel_.body_mobilities(sp.body);
-    const int m = static_cast<int>(mob.size());
-    kernel_.point_jacobian_columns(sp.body, p, G_.leftCols(m));
-    Eigen::Vector3d v = Eigen::Vector3d::Zero();
-    for (int c = 0; c < m; ++c) v += G_.col(c) * V_[mob[static_cast<std::size_t>(c)]];
-    const Eigen::Vector2d offset = anchors[i].active ? Eigen::Vector2d(p.head<2>() - anchors[i].anchor) : Eigen::Vector2d::Zero();
-    const SphereContact sc = sphere_contact(opt_.contact_params, sp.radius_m, pen, v, offset);
-    add_point_term(mob, m, sc.force_W, h * sc.D + h * h * sc.K, &sc.K, &v);
-  }
-}
-
 void PlantDynamics::add_external() {
   for (const PointForce& f : external) {
     const std::vector<int>& mob = kernel_.body_mobilities(f.body);
@@ -239,32 +235,6 @@ void PlantDynamics::add_point_term(const std::vector<int>& idx, int cols, const 
   WG_.leftCols(cols).noalias() = W * G;
   for (int a = 0; a < cols; ++a)
     for (int b = 0; b < cols; ++b) A_(idx[static_cast<std::size_t>(a)], idx[static_cast<std::size_t>(b)]) += G.col(a).dot(WG_.col(b));
-}
-
-SphereContact PlantDynamics::sphere_contact_now(int sphere, Eigen::Vector3d* p_W) const {
-  const ContactSphere& sp = spheres_[static_cast<std::size_t>(sphere)];
-  const Eigen::Vector3d center = world_point(sp.body, sp.center_B);
-  const Eigen::Vector3d p = center - sp.radius_m * Eigen::Vector3d::UnitZ();
-  if (p_W) *p_W = p;
-  const SphereAnchor& an = anchors[static_cast<std::size_t>(sphere)];
-  const Eigen::Vector2d offset = an.active ? Eigen::Vector2d(p.head<2>() - an.anchor) : Eigen::Vector2d::Zero();
-  return sphere_contact(opt_.contact_params, sp.radius_m, sp.radius_m - center.z(), kernel_.point_velocity(sp.body, p), offset);
-}
-
-void PlantDynamics::update_anchors() {
-  for (std::size_t i = 0; i < spheres_.size(); ++i) {
-    Eigen::Vector3d p;
-    const SphereContact sc = sphere_contact_now(static_cast<int>(i), &p);
-    SphereAnchor& an = anchors[i];
-    if (!sc.touching) {
-      an.active = false;
-    } else if (!an.active) {
-      an.active = true;
-      an.anchor = p.head<2>();
-    } else {
-      an.anchor = p.head<2>() - slide_anchor(opt_.contact_params, sc.normal_force_N, p.head<2>() - an.anchor);
-    }
-  }
 }
 
 Eigen::Vector3d PlantDynamics::housing_moment() const {
@@ -289,7 +259,7 @@ double PlantDynamics::potential_energy() const {
     e += hm.mass_kg * opt_.gravity_m_s2 * p.z();
   }
   for (int k = 0; k < na_; ++k) e += actuator_potential_energy(acts_[static_cast<std::size_t>(k)], Q_[ntq_ + k]);
-  for (std::size_t i = 0; i < spheres_.size(); ++i) e += sphere_contact_now(static_cast<int>(i)).potential_J;
+  add_contact_potential(e);
   for (const JointStop& s : stops_)
     if (s.limited)
       e += stop_torque(Q_[joint_q(s.joint)], 0.0, s.lower, s.upper, opt_.limit_stiffness_Nm_per_rad, 0.0).energy;

@@ -9,11 +9,16 @@
 //     by s along the link's z axis (the leg's long axis): exact point-mass terms
 //     M_r J_h^T J_h and M_r J_h^T (g - Jdot_h V) with its Jacobian J_h over (tree, s);
 //   - URDF joint limits (Hunt-Crossley stops) and joint damping;
-//   - sphere/ground contact (contact.hpp) and external point forces; input joint torques.
+//   - ground contact of every collision shape (contact_elements.hpp: spheres, box
+//     corners and mesh hull vertices by contact.hpp, cylinder rims by rim_contact.hpp;
+//     plant_contacts.cpp) and external point forces; input joint torques.
 // assemble(h) writes A = M + h D + h^2 K, r = f - c and kv = K V, where K and D are the
 // stiff forces' negative position and velocity derivatives (h = 0: A = M).
 // Nothing here allocates after construction.
 #include "contact.hpp"
+#include "contact_elements.hpp"
+#include "ground_frame.hpp"
+#include "rim_contact.hpp"
 #include "tree_kernel.hpp"
 
 #include "dmbd/model/plant.hpp"
@@ -32,15 +37,30 @@ struct HousingMass {
   double mass_kg = 0;
 };
 
-struct ContactSphere {
-  int link = -1, body = -1;
-  Eigen::Vector3d center_B;
-  double radius_m = 0;
-};
-
+// The friction anchor of a sphere or a point contact.
 struct SphereAnchor {
   bool active = false;
-  Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // on the ground (x, y)
+  Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // on the ground (its tangent coordinates)
+};
+
+// A rim's friction: the material point of the body where the deflection is measured
+// (re-seated at the centre of pressure after every step) and the ground anchor it is
+// tied to; offset = tangent(material point) - anchor, capped at delta_s.
+struct RimFriction {
+  bool active = false;
+  Eigen::Vector3d material_B = Eigen::Vector3d::Zero();
+  Eigen::Vector2d anchor = Eigen::Vector2d::Zero();
+};
+
+// A rim's contact at the current state: the ring's penetration, its normal force's
+// Hunt-Crossley factor at the centre of pressure, and the friction at the material point.
+struct RimContact {
+  RimPenetration ring;
+  double factor = 0;                                     // 1 + d xdot_cop, 0 when separating fast
+  double normal_force_N = 0;                             // kappa R load factor
+  Eigen::Vector3d material_W = Eigen::Vector3d::Zero();  // where the friction acts
+  ContactForce friction;                                 // world; its normal part is zero
+  double potential_J = 0;                                // ring and tangential spring
 };
 
 struct PointForce {
@@ -71,7 +91,9 @@ class PlantDynamics {
   int actuator_of_joint(int joint) const { return act_of_joint_[static_cast<std::size_t>(joint)]; }
   int joint_q(int joint) const { return kernel_.joint_q(joint); }
   int joint_v(int joint) const { return kernel_.joint_v(joint); }
-  const std::vector<ContactSphere>& spheres() const { return spheres_; }
+  const std::vector<ContactSphere>& spheres() const { return contact_.spheres; }
+  const ContactElements& contact_elements() const { return contact_; }
+  const GroundFrame& ground() const { return ground_; }
   double total_mass_kg() const { return kernel_.total_mass_kg() + housing_mass_; }
 
   // The state the terms are evaluated at.
@@ -84,16 +106,29 @@ class PlantDynamics {
   Eigen::VectorXd joint_torques;           // per joint coordinate
   std::vector<PointForce> external;        // reserved: no allocation for a few forces
   std::vector<SphereAnchor> anchors;       // per sphere
+  std::vector<SphereAnchor> point_anchors; // per point contact
+  std::vector<RimFriction> rim_friction;   // per rim
 
   void assemble(double h);
   const Eigen::MatrixXd& A() const { return A_; }
   const Eigen::VectorXd& r() const { return r_; }
   const Eigen::VectorXd& kv() const { return kv_; }
 
-  // Friction anchors after a step (the return map at the current state).
+  // Friction anchors after a step (the return map at the current state); clearing them.
   void update_anchors();
-  // A sphere's contact at the current state (anchors unchanged), and its contact point.
+  void reset_anchors();
+  // A contact element's force at the current state (anchors unchanged), world; and its
+  // contact point.
   SphereContact sphere_contact_now(int sphere, Eigen::Vector3d* p_W = nullptr) const;
+  ContactForce point_contact_now(int point, Eigen::Vector3d* p_W = nullptr) const;
+  RimContact rim_contact_now(int rim) const;
+  // The reading of contact_elements().shapes[shape] (Plant::contacts()).
+  ContactReading contact_reading(int shape) const;
+  // Placing on the ground: the lowest height of any contact element above the ground,
+  // and the sum of the elements' static normal forces with every element lifted by
+  // `lift` (m) along the ground normal.
+  double lowest_contact_height() const;
+  double static_contact_load(double lift_m) const;
   // Point of a body in world at the current state.
   Eigen::Vector3d world_point(int body, const Eigen::Vector3d& p_B) const;
 
@@ -107,6 +142,16 @@ class PlantDynamics {
   void add_actuators(double h);
   void add_housings();
   void add_contacts(double h);
+  void add_sphere_contacts(double h);
+  void add_point_contacts(double h);
+  void add_rim_contacts(double h);
+  void add_contact_potential(double& e) const;  // e += each element's energy, in order
+  // Fills G_'s first columns with the point Jacobian of `body` at p_W; returns its velocity.
+  Eigen::Vector3d point_columns(int body, const Eigen::Vector3d& p_W);
+  // The same for a point p_W of a rim (centre c, axis a) that moves with the rim's centre
+  // and tilt but not with its spin about a: the ring's force does not change when it
+  // spins, so its stiffness and damping must not resist rolling.
+  Eigen::Vector3d rim_columns(int body, const Eigen::Vector3d& c, const Eigen::Vector3d& a, const Eigen::Vector3d& p_W);
   void add_external();
   // A(idx, idx) += G^T W G, r(idx) += G^T f, kv(idx) += G^T k (G V) for a point term whose
   // Jacobian has the columns `idx` (G is 3 x idx.size()).
@@ -118,7 +163,8 @@ class PlantDynamics {
   std::vector<ActuatorParams> acts_;
   std::vector<int> act_joint_, act_of_joint_;
   std::vector<HousingMass> housings_;
-  std::vector<ContactSphere> spheres_;
+  GroundFrame ground_;
+  ContactElements contact_;
   std::vector<JointStop> stops_;
   double housing_mass_ = 0;
   int ntq_ = 0, ntv_ = 0, na_ = 0;
@@ -126,6 +172,7 @@ class PlantDynamics {
   Eigen::MatrixXd A_;
   Eigen::VectorXd r_, kv_, c_tree_;
   Eigen::Matrix3Xd G_, WG_;                // scratch: compact point Jacobian, W times it
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J6_;  // scratch: compact frame Jacobian
   std::vector<int> idx_;                   // scratch: columns of a point term
 };
 

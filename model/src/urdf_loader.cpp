@@ -25,6 +25,7 @@
 #include "dmbd/base/number_text.hpp"
 #include "dmbd/base/text.hpp"
 #include "dmbd/model/error.hpp"
+#include "contact_elements.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "mesh_loader.hpp"
 #include "urdf_repairs.hpp"
@@ -734,13 +735,14 @@ JointType convert_type(int t, const Diag& d, const XJoint& x) {
   }
 }
 
-// Reads each mesh once per (file, scale); fills meshes_loaded/missing and warnings.
+// Reads each mesh once per (file, scale); fills meshes_loaded/missing and warnings; gives
+// each collision mesh its contact points (Geometry::hull_m).
 class MeshReader {
  public:
   MeshReader(const Diag& d, const std::string& base_dir, const UrdfOptions& o, RobotDescription& r)
       : d_(d), base_dir_(base_dir), o_(o), r_(r) {}
 
-  void load(Geometry& g, int line, const std::string& owner) {
+  void load(Geometry& g, int line, const std::string& owner, bool collision) {
     if (g.kind != Geometry::Kind::Mesh || !o_.load_meshes) return;
     std::vector<std::string> tried;
     const auto path = detail::resolve_mesh_uri(g.mesh_uri, base_dir_, o_.package_paths, &tried);
@@ -760,12 +762,20 @@ class MeshReader {
     }
     if (problem.empty()) {
       if (loaded_.insert(g.mesh_uri).second) ++r_.meshes_loaded;
+      if (collision) contact_points(g, line, owner);
       return;
     }
     if (o_.strict) d_.fail(line, owner + problem + " (strict: every mesh must load)");
-    if (std::find(r_.meshes_missing.begin(), r_.meshes_missing.end(), g.mesh_uri) == r_.meshes_missing.end()) {
+    // One warning per missing URI, at its first use; a collision that uses it is named
+    // there as skipped (a mesh without a file cannot touch the ground).
+    const auto w = warned_.find(g.mesh_uri);
+    if (w == warned_.end()) {
       r_.meshes_missing.push_back(g.mesh_uri);
-      r_.warnings.push_back(d_.at(line) + owner + problem);
+      warned_[g.mesh_uri] = r_.warnings.size();
+      r_.warnings.push_back(d_.at(line) + owner + problem + (collision ? "; this collision shape is skipped (no contact)" : ""));
+    } else if (collision) {
+      r_.warnings[w->second] += "; the collision of " + owner.substr(0, owner.size() - 2) + " at line " +
+                                std::to_string(line) + " is skipped (no contact)";
     }
   }
 
@@ -779,10 +789,27 @@ class MeshReader {
     return s;
   }
 
+  // The convex hull's vertices, at most kMaxHullPoints (one warning per shape above it).
+  void contact_points(Geometry& g, int line, const std::string& owner) {
+    auto it = hulls_.find(g.mesh.get());
+    if (it == hulls_.end()) {
+      std::size_t size = 0;
+      std::vector<Eigen::Vector3d> points = detail::mesh_contact_points(*g.mesh, detail::kMaxHullPoints, &size);
+      it = hulls_.emplace(g.mesh.get(), std::make_pair(std::move(points), size)).first;
+    }
+    g.hull_m = it->second.first;
+    if (it->second.second > detail::kMaxHullPoints)
+      r_.warnings.push_back(d_.at(line) + owner + "collision mesh '" + g.mesh_uri + "' has " + std::to_string(it->second.second) +
+                            " convex-hull vertices; contact uses " + std::to_string(detail::kMaxHullPoints) +
+                            " of them (farthest-point sampling)");
+  }
+
   const Diag& d_;
   std::string base_dir_;
   const UrdfOptions& o_;
   RobotDescription& r_;
+  std::map<std::string, std::size_t> warned_;  // missing URI -> its warning
+  std::map<const TriangleMesh*, std::pair<std::vector<Eigen::Vector3d>, std::size_t>> hulls_;
   std::map<std::tuple<std::string, double, double, double>,
            std::pair<std::shared_ptr<const TriangleMesh>, std::string>> cache_;
   std::set<std::string> loaded_;
@@ -860,7 +887,7 @@ RobotDescription parse_urdf(const std::string& xml, const std::string& base_dir,
         s.X_LG = to_eigen(v.origin);
         s.geometry = convert_geometry(v.geometry);
         if (visual && xs[k].rgba) s.rgba = *xs[k].rgba;
-        meshes.load(s.geometry, xs[k].mesh_line ? xs[k].mesh_line : xs[k].line, owner);
+        meshes.load(s.geometry, xs[k].mesh_line ? xs[k].mesh_line : xs[k].line, owner, !visual);
         out.push_back(std::move(s));
       }
     };

@@ -1,7 +1,7 @@
 #pragma once
 // The simulated robot: the URDF's multibody tree plus DRACO's series-elastic actuators
-// (rotor, ball screw, elastomer, linkage), joint limits and damping, and compliant foot
-// contact, in generalized coordinates without constraints. Eigen types only; Simbody
+// (rotor, ball screw, elastomer, linkage), joint limits and damping, and compliant ground
+// contact of every collision shape, in generalized coordinates without constraints. Eigen types only; Simbody
 // stays in model/src/ (it realises the tree's kinematics).
 //
 // Inputs are held constant between calls to advance_to() (zero-order hold, as a
@@ -34,16 +34,24 @@
 
 namespace dmbd::model {
 
-// Sphere/ground contact on every collision sphere of the robot (model/src/contact.hpp):
-// Hunt-Crossley normal force on the Hertz law; friction as a spring-damper to an anchor
-// on the ground, both in proportion to the normal force, capped by the Coulomb cone
-// (sticks without creeping, slides beyond mu F_n).
+// Contact of every collision shape of every link with the ground, a plane through the
+// origin with unit normal PlantOptions::ground_normal (model/src/contact.hpp,
+// rim_contact.hpp; docs/model.md, "Contact"). Spheres: Hunt-Crossley on the Hertz law.
+// Boxes (8 corners) and meshes (their convex hull's vertices, at most 64): point
+// contacts with a linear Hunt-Crossley law F = k x (1 + d xdot). Cylinders: each rim an
+// elastic ring, kappa per unit length, integrated in closed form. Friction at every
+// point as a spring-damper to an anchor on the ground, both in proportion to the normal
+// force, capped by the Coulomb cone (sticks without creeping, slides beyond mu F_n); a
+// rim's anchor follows its material contact point, so rolling feels no friction.
 struct ContactParams {
-  double stiffness_Pa = 1e7;                  // plane-strain modulus E of the Hertz law
-  double dissipation_s_per_m = 2.0;           // Hunt-Crossley d: F = F_hertz (1 + 1.5 d xdot)
-  double friction = 0.8;                      // Coulomb coefficient mu
+  double stiffness_Pa = 1e7;                  // spheres: plane-strain modulus E of the Hertz law
+  double dissipation_s_per_m = 2.0;           // spheres: Hunt-Crossley d, F = F_hertz (1 + 1.5 d xdot)
+  double friction = 0.8;                      // Coulomb coefficient mu (every shape)
   double stiction_displacement_m = 1e-3;      // tangential stiffness mu F_n / this
   double stiction_velocity_m_s = 0.01;        // tangential damping mu F_n / this (regularised Coulomb's slope)
+  double point_stiffness_N_per_m = 1e5;       // box corners, mesh hull vertices: k (1 mm under 100 N)
+  double point_dissipation_s_per_m = 2.0;     // points and rims: Hunt-Crossley d, F = k x (1 + d xdot)
+  double rim_stiffness_N_per_m2 = 1e6;        // cylinder rims: kappa, N/m per m of rim
 };
 
 enum class Integration {
@@ -56,8 +64,11 @@ struct PlantOptions {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  // root pose when fixed
   double gravity_m_s2 = 9.81;
   std::vector<ActuatorParams> actuators;   // one per actuated joint; empty: ideal torques
-  bool contact = true;                     // ground z = 0 under the collision spheres
+  bool contact = true;                     // the ground under every collision shape
   ContactParams contact_params;
+  // The ground plane through the origin, its upward normal (normalised; n.z > 0 or the
+  // plant refuses it). Gravity stays along -z world: a tilted normal makes a slope.
+  Eigen::Vector3d ground_normal = Eigen::Vector3d::UnitZ();
   bool joint_limits = true;                // URDF limits as stiff one-sided stops
   double limit_stiffness_Nm_per_rad = 5e3;
   double limit_dissipation_s_per_rad = 1.0;
@@ -67,11 +78,17 @@ struct PlantOptions {
   double step_s = 5e-4;                    // Fixed: the largest step
 };
 
+// One per colliding collision shape: links in order, shapes in URDF order within a link
+// (a mesh whose file did not load is not listed).
 struct ContactReading {
   int link = -1;                  // RobotDescription link index
-  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // sphere bottom point in world
-  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  // on the robot
-  double penetration_m = 0;
+  int shape = -1;                 // index into links[link].collisions
+  Geometry::Kind kind = Geometry::Kind::Sphere;
+  // Sphere: its lowest point along the ground normal. Other shapes: the centre of
+  // pressure of their normal forces (their lowest point while not touching).
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();  // on the robot, summed over the shape's contacts
+  double penetration_m = 0;       // the largest of its contacts (0 while not touching)
 };
 
 class Plant {
@@ -91,17 +108,17 @@ class Plant {
   int actuator_of_joint(int joint) const;
   const ActuatorParams& actuator(int k) const;
 
-  // State. reset() puts every joint at 0 (floating: torso orientation from X_WB, its
-  // height such that the lowest collision spheres sink by the static deflection of their
-  // share of the weight), zero velocities, springs unloaded, time 0. The set_* calls
-  // keep the springs' deflections and make the rotor angles consistent.
+  // State. reset() puts every joint at 0 (floating: torso orientation from X_WB, placed on
+  // the ground as place_on_ground() does), zero velocities, springs unloaded, time 0. The
+  // set_* calls keep the springs' deflections and make the rotor angles consistent.
   void reset();
   void set_joint_positions(const Eigen::VectorXd& q);
   void set_joint_velocities(const Eigen::VectorXd& v);
   void set_base_pose(const Eigen::Isometry3d& X_WB);       // floating only
-  // Floating base with contact: moves the base vertically so that the lowest collision
-  // spheres sink by the static deflection of their share of the weight (reset() does this
-  // for the zero posture; call it after setting an initial posture). No-op otherwise.
+  // Floating base with contact: moves the base along the ground normal so that the static
+  // normal forces of the contacts sum to the weight's normal component (the lowest ones
+  // sharing it; reset() does this for the zero posture; call it after setting an initial
+  // posture). No-op otherwise.
   void place_on_ground();
   void lock_joint(int joint, double q);                    // hold a joint (locked output)
   void unlock_joint(int joint);

@@ -37,6 +37,11 @@ struct Geometry {
   // Mesh: the loaded triangles (scale applied), or null when the file could not
   // be found or read (then its URI is listed in RobotDescription::meshes_missing).
   std::shared_ptr<const TriangleMesh> mesh;
+  // Mesh of a <collision>: its contact points, the vertices of the mesh's convex hull in
+  // the geometry frame (m), at most 64 (farthest-point sampled, with a warning, when the
+  // hull has more). Filled by the loader; empty when the mesh did not load (the plant
+  // computes it if a description built in code has a mesh but no hull).
+  std::vector<Eigen::Vector3d> hull_m;
 };
 
 struct Shape {

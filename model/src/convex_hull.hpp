@@ -1,0 +1,24 @@
+#pragma once
+// Internal to model/: a collision mesh's contact points, the vertices of its convex hull
+// (Debian's qhull, reentrant libqhull_r: a hull is a library's job), at most a given
+// number of them, chosen by farthest-point sampling when the hull has more. Eigen only.
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <vector>
+
+namespace dmbd::model::detail {
+
+// The vertices of the convex hull of `points` (any order of input; output in qhull's
+// vertex order, as doubles). Fewer than 4 points, or all on a plane or a line: qhull
+// cannot build a 3-d hull, and the points are joggled (qhull's QJ: a random shift of
+// about 1e-11 of their extent) so that it can; every extreme point is then a vertex.
+// Empty input gives an empty result.
+std::vector<Eigen::Vector3d> convex_hull_vertices(const std::vector<Eigen::Vector3f>& points);
+
+// `count` of the points by farthest-point sampling: the first is the point farthest from
+// their centroid, each next one the point farthest from those chosen (ties: the first in
+// order). All of them (unchanged) when there are no more than `count`.
+std::vector<Eigen::Vector3d> farthest_points(const std::vector<Eigen::Vector3d>& points, std::size_t count);
+
+}  // namespace dmbd::model::detail
