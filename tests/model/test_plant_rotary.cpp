@@ -97,8 +97,8 @@ TEST(PlantRotary, ReflectedInertiaOfTheGearedRotor) {
     const double a = acceleration(p, 0.1);
     const double expected = torque_per_amp(m) * i / (kLinkInertia + reflected(m));
     EXPECT_NEAR(a / expected, 1.0, 1e-9) << (mode == Integration::Fixed ? "fixed" : "accurate");
-    std::printf("ROTARY reflected inertia (%s): %.12g rad/s^2, closed form %.12g (I_link %.4g + J_m N^2 %.4g)\n",
-                mode == Integration::Fixed ? "fixed" : "accurate", a, expected, kLinkInertia, reflected(m));
+    std::printf("ROTARY reflected inertia (%s): %.12g rad/s^2, closed form %.12g (I_link %.4g + J_m N^2 %.4g): %.2g relative\n",
+                mode == Integration::Fixed ? "fixed" : "accurate", a, expected, kLinkInertia, reflected(m), a / expected - 1);
   }
 }
 
@@ -156,8 +156,8 @@ TEST(PlantRotary, CoulombFrictionHoldsBelowAndSlidesAbove) {
     const double a = (slide.joint_velocities()[0] - 0.1) / 0.2;
     EXPECT_NEAR(a / ((3.0 - 1.5) / I), 1.0, 1e-9) << name;
     std::printf("Coulomb (%s): creep %.6g rad/s at tau = tau_c / 2 (w_s / 2 = %.6g), 1 s: %.6g rad; "
-                "above: %.10g rad/s^2 vs (tau - tau_c) / I = %.10g\n",
-                name, hold.joint_velocities()[0], creep, hold.joint_positions()[0], a, (3.0 - 1.5) / I);
+                "above: %.10g rad/s^2 vs (tau - tau_c) / I = %.10g (%.2g relative)\n",
+                name, hold.joint_velocities()[0], creep, hold.joint_positions()[0], a, (3.0 - 1.5) / I, a * I / 1.5 - 1);
   }
 }
 
@@ -174,7 +174,7 @@ TEST(PlantRotary, ViscousDecayRate) {
   const double rate = std::log(2.0 / p.joint_velocities()[0]) / 1.0;
   const double expected = (0.3 + 1e-5 * 50 * 50 + 0.05) / (kLinkInertia + reflected(m));
   EXPECT_NEAR(rate / expected, 1.0, 1e-7);
-  std::printf("viscous decay: %.10g 1/s, closed form %.10g\n", rate, expected);
+  std::printf("viscous decay: %.10g 1/s, closed form %.10g (%.2g relative)\n", rate, expected, rate / expected - 1);
 }
 
 TEST(PlantRotary, ReadingsOfARigidGearedMotor) {
