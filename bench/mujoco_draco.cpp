@@ -1,6 +1,6 @@
 // DRACO in MuJoCo from the project's RobotDescription: MJCF generation (always built) and
 // the standing run (with MuJoCo only). What each MJCF element stands for in the URDF and
-// the actuator table (model/draco/actuators.yaml, docs/model.md sections 1-3):
+// the actuator table (robots/draco/actuators.yaml, docs/model.md sections 1-3):
 //   body            one per URDF link; pos/quat = the URDF joint origin X_PJ (the child
 //                   frame in the parent's); the root (torso) carries a free joint
 //   inertial        the link's mass, CoM and full inertia tensor (fullinertia, about the

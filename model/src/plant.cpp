@@ -1,6 +1,7 @@
 // Plant: the robot's equations in generalized coordinates (plant_dynamics.hpp) and the
 // fixed or accurate integrator (plant_steppers.hpp). The state is Q = [q, s],
-// V = [v, s'] (tree coordinates, then one spring deflection per actuator).
+// V = [v, s'] (tree coordinates, then one spring deflection per actuator that has a
+// spring: PlantDynamics::spring_q(k), -1 for a ROTARY).
 #include "dmbd/model/plant.hpp"
 
 #include "actuator_terms.hpp"
@@ -180,7 +181,7 @@ void Plant::set_currents(const Eigen::VectorXd& current_A) {
   if (current_A.size() != num_actuators())
     throw ModelError("set_currents: " + std::to_string(current_A.size()) + " values for " + std::to_string(num_actuators()) + " actuators");
   for (int k = 0; k < num_actuators(); ++k) {
-    const double lim = m.dyn.actuator(k).current_limit_A;
+    const double lim = m.dyn.actuator(k).applied_current_limit_A();
     m.dyn.currents[k] = std::clamp(current_A[k], -lim, lim);
   }
 }
@@ -234,25 +235,39 @@ Eigen::Matrix<double, 6, 1> Plant::base_velocity() const {
   out << k.angular_velocity(b), k.point_velocity(b, k.origin(b));
   return out;
 }
-Eigen::VectorXd Plant::spring_deflections() const { return impl_->Q.tail(num_actuators()); }
+Eigen::VectorXd Plant::spring_deflections() const {
+  const Impl& m = *impl_;
+  Eigen::VectorXd s = Eigen::VectorXd::Zero(num_actuators());
+  for (int k = 0; k < num_actuators(); ++k)
+    if (m.dyn.spring_q(k) >= 0) s[k] = m.Q[m.dyn.spring_q(k)];
+  return s;
+}
+// Spring kinds: the sensed spring force K_s s. ROTARY: the drive's estimate from the
+// applied current, efficiency k_tau N i (N m): what its current loop reports.
 Eigen::VectorXd Plant::actuator_forces() const {
+  const Impl& m = *impl_;
   Eigen::VectorXd f = spring_deflections();
-  for (int k = 0; k < num_actuators(); ++k) f[k] *= impl_->dyn.actuator(k).K_s_N_per_m;
+  for (int k = 0; k < num_actuators(); ++k) {
+    const ActuatorParams& p = m.dyn.actuator(k);
+    if (p.has_spring()) f[k] *= p.K_s_N_per_m;
+    else f[k] = p.efficiency * p.force_per_amp_N_per_A() * m.dyn.currents[k];
+  }
   return f;
 }
 Eigen::VectorXd Plant::motor_angles() const {
   const Impl& m = *impl_;
+  const Eigen::VectorXd s = spring_deflections();
   Eigen::VectorXd a(num_actuators());
   for (int k = 0; k < num_actuators(); ++k)
-    a[k] = detail::motor_angle(m.dyn.actuator(k), m.Q[m.dyn.joint_q(m.dyn.actuator_joint(k))], m.Q[m.dyn.tree_nq() + k]);
+    a[k] = detail::motor_angle(m.dyn.actuator(k), m.Q[m.dyn.joint_q(m.dyn.actuator_joint(k))], s[k]);
   return a;
 }
 Eigen::VectorXd Plant::motor_velocities() const {
   const Impl& m = *impl_;
   Eigen::VectorXd a(num_actuators());
   for (int k = 0; k < num_actuators(); ++k) {
-    const int c = m.dyn.actuator_joint(k);
-    a[k] = detail::motor_velocity(m.dyn.actuator(k), m.Q[m.dyn.joint_q(c)], m.V[m.dyn.joint_v(c)], m.V[m.dyn.tree_nv() + k]);
+    const int c = m.dyn.actuator_joint(k), sv = m.dyn.spring_v(k);
+    a[k] = detail::motor_velocity(m.dyn.actuator(k), m.Q[m.dyn.joint_q(c)], m.V[m.dyn.joint_v(c)], sv < 0 ? 0.0 : m.V[sv]);
   }
   return a;
 }
@@ -263,7 +278,7 @@ Eigen::VectorXd Plant::joint_torque_estimates() const {
   const Eigen::VectorXd f = actuator_forces();
   for (int k = 0; k < num_actuators(); ++k) {
     const int c = m.dyn.actuator_joint(k);
-    tau[c] = f[k] * m.dyn.actuator(k).linkage.moment_arm_m(m.Q[m.dyn.joint_q(c)]);
+    tau[c] = f[k] * m.dyn.actuator(k).moment_arm(m.Q[m.dyn.joint_q(c)]);
   }
   return tau;
 }

@@ -17,11 +17,11 @@ constexpr double kMinLinkMass = 0.2;
 // The link whose mass carries each RFSEA's housing (-1 for an FSEA): the actuated
 // joint's parent, or the nearest ancestor that can give M_r and keep kMinLinkMass.
 std::vector<int> housing_donors(const RobotDescription& r, const PlantOptions& o) {
+  check_actuators_against(o.actuators, r);
   std::vector<double> taken(r.links.size(), 0.0);
   std::vector<int> donor;
   for (const ActuatorParams& p : o.actuators) {
     const int j = r.joint_index(p.joint);
-    if (j < 0) throw ModelError(r.source + ": actuator for joint '" + p.joint + "', which the robot does not have");
     if (p.kind != ActuatorKind::RFSEA) {
       donor.push_back(-1);
       continue;
@@ -95,10 +95,12 @@ PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
     int c = -1;
     for (int j = 0; j < nj; ++j)
       if (kernel_.joint_names()[static_cast<std::size_t>(j)] == p.joint) c = j;
-    if (c < 0) throw ModelError(r.source + ": actuated joint '" + p.joint + "' has no coordinate (fixed or welded)");
-    if (act_of_joint_[static_cast<std::size_t>(c)] >= 0) throw ModelError(r.source + ": two actuators drive joint '" + p.joint + "'");
+    const std::string at = (p.where.empty() ? r.source : p.where) + ": ";
+    if (c < 0) throw ModelError(at + "actuated joint '" + p.joint + "' has no coordinate (welded: it moves no mass)");
+    if (act_of_joint_[static_cast<std::size_t>(c)] >= 0) throw ModelError(at + "two actuators drive joint '" + p.joint + "'");
     act_of_joint_[static_cast<std::size_t>(c)] = k;
     act_joint_.push_back(c);
+    spring_.push_back(p.has_spring() ? ns_++ : -1);
     const int l = donor[static_cast<std::size_t>(k)];
     if (l < 0) continue;
     housings_.push_back({k, kernel_.body_of_link(l), r.links[static_cast<std::size_t>(l)].com_m, Eigen::Vector3d::UnitZ(), p.M_r_kg});
@@ -177,19 +179,22 @@ void PlantDynamics::add_joint_terms(double h) {
   }
 }
 
+// Each actuator's 2 x 2 terms over (q, s); an actuator without a spring (ROTARY) has
+// only the q entries.
 void PlantDynamics::add_actuators(double h) {
   for (int k = 0; k < na_; ++k) {
     const int c = act_joint_[static_cast<std::size_t>(k)];
-    const int iq = joint_q(c), iv = joint_v(c), is = ntv_ + k;
-    const double qd = V_[iv], sd = V_[is];
-    const ActuatorTerms t = actuator_terms(acts_[static_cast<std::size_t>(k)], Q_[iq], qd, Q_[ntq_ + k], sd, currents[k]);
+    const int iq = joint_q(c), iv = joint_v(c), is = spring_v(k);
+    const double qd = V_[iv], sd = spring_rate(k);
+    const ActuatorTerms t = actuator_terms(acts_[static_cast<std::size_t>(k)], Q_[iq], qd, spring_deflection(k), sd, currents[k]);
     const int idx[2] = {iv, is};
+    const int n = is < 0 ? 1 : 2;
     const Eigen::Matrix2d W = t.M + h * t.D + h * h * t.K;
     const Eigen::Vector2d kv = t.K * Eigen::Vector2d(qd, sd);
-    for (int a = 0; a < 2; ++a) {
+    for (int a = 0; a < n; ++a) {
       r_[idx[a]] += t.f[a];
       kv_[idx[a]] += kv[a];
-      for (int b = 0; b < 2; ++b) A_(idx[a], idx[b]) += W(a, b);
+      for (int b = 0; b < n; ++b) A_(idx[a], idx[b]) += W(a, b);
     }
   }
 }
@@ -200,7 +205,7 @@ void PlantDynamics::add_actuators(double h) {
 void PlantDynamics::add_housings() {
   const Eigen::Vector3d g(0, 0, -opt_.gravity_m_s2);
   for (const HousingMass& hm : housings_) {
-    const double s = Q_[ntq_ + hm.actuator], sd = V_[ntv_ + hm.actuator];
+    const double s = spring_deflection(hm.actuator), sd = spring_rate(hm.actuator);
     const Eigen::Vector3d u = kernel_.rotation(hm.body) * hm.u_B;
     const Eigen::Vector3d p = world_point(hm.body, hm.p_B) + s * u;
     const std::vector<int>& mob = kernel_.body_mobilities(hm.body);
@@ -208,7 +213,7 @@ void PlantDynamics::add_housings() {
     kernel_.point_jacobian_columns(hm.body, p, G_.leftCols(m));
     G_.col(m) = u;
     idx_.assign(mob.begin(), mob.end());
-    idx_.push_back(ntv_ + hm.actuator);
+    idx_.push_back(spring_v(hm.actuator));
     const Eigen::Vector3d a = kernel_.point_bias_acceleration(hm.body, p) + 2 * sd * kernel_.angular_velocity(hm.body).cross(u);
     add_point_term(idx_, m + 1, hm.mass_kg * (g - a), hm.mass_kg * Eigen::Matrix3d::Identity());
   }
@@ -240,7 +245,7 @@ void PlantDynamics::add_point_term(const std::vector<int>& idx, int cols, const 
 Eigen::Vector3d PlantDynamics::housing_moment() const {
   Eigen::Vector3d h = Eigen::Vector3d::Zero();
   for (const HousingMass& hm : housings_) {
-    const double s = Q_[ntq_ + hm.actuator];
+    const double s = spring_deflection(hm.actuator);
     h += hm.mass_kg * (world_point(hm.body, hm.p_B) + s * (kernel_.rotation(hm.body) * hm.u_B));
   }
   return h;
@@ -254,11 +259,11 @@ double PlantDynamics::kinetic_energy() {
 double PlantDynamics::potential_energy() const {
   double e = kernel_.gravity_potential();
   for (const HousingMass& hm : housings_) {
-    const double s = Q_[ntq_ + hm.actuator];
+    const double s = spring_deflection(hm.actuator);
     const Eigen::Vector3d p = world_point(hm.body, hm.p_B) + s * (kernel_.rotation(hm.body) * hm.u_B);
     e += hm.mass_kg * opt_.gravity_m_s2 * p.z();
   }
-  for (int k = 0; k < na_; ++k) e += actuator_potential_energy(acts_[static_cast<std::size_t>(k)], Q_[ntq_ + k]);
+  for (int k = 0; k < na_; ++k) e += actuator_potential_energy(acts_[static_cast<std::size_t>(k)], spring_deflection(k));
   add_contact_potential(e);
   for (const JointStop& s : stops_)
     if (s.limited)

@@ -1,10 +1,11 @@
 #pragma once
 // Internal to model/: the plant's equations of motion in generalized coordinates
-//   Q = [q (tree), s (one spring deflection per actuator)],  V = [v (tree), s'],
+//   Q = [q (tree), s (one spring deflection per actuator with a spring)],  V = [v (tree), s'],
 //   M(Q) V' = f(Q, V, t) - c(Q, V),
 // and their stiff parts for the fixed stepper. Terms (docs/model.md, section 6):
 //   - the tree (TreeKernel: mass matrix, Coriolis and gravity);
-//   - each actuator's rotor, motor, dampers and elastomer (actuator_terms.hpp);
+//   - each actuator's rotor, motor, dampers, friction and spring (actuator_terms.hpp);
+//     an actuator adds 0 (ROTARY) or 1 (RFSEA, FSEA, ROTARY_SEA) spring coordinate;
 //   - each RFSEA housing: a point mass M_r at the donor link's centre of mass, moved
 //     by s along the link's z axis (the leg's long axis): exact point-mass terms
 //     M_r J_h^T J_h and M_r J_h^T (g - Jdot_h V) with its Jacobian J_h over (tree, s);
@@ -80,11 +81,18 @@ class PlantDynamics {
   PlantDynamics(const RobotDescription& robot, const PlantOptions& options);
 
   const TreeKernel& kernel() const { return kernel_; }
-  int nq() const { return ntq_ + na_; }
-  int nv() const { return ntv_ + na_; }
+  int nq() const { return ntq_ + ns_; }
+  int nv() const { return ntv_ + ns_; }
   int tree_nq() const { return ntq_; }
   int tree_nv() const { return ntv_; }
   int num_actuators() const { return na_; }
+  int num_springs() const { return ns_; }  // spring coordinates: Q.tail(ns), V.tail(ns), in actuator order
+  // Actuator k's spring coordinate in Q and in V, or -1 (ROTARY: no spring).
+  int spring_q(int k) const { return spring_[static_cast<std::size_t>(k)] < 0 ? -1 : ntq_ + spring_[static_cast<std::size_t>(k)]; }
+  int spring_v(int k) const { return spring_[static_cast<std::size_t>(k)] < 0 ? -1 : ntv_ + spring_[static_cast<std::size_t>(k)]; }
+  // Actuator k's spring deflection and rate at the current state (0 without a spring).
+  double spring_deflection(int k) const { return spring_q(k) < 0 ? 0.0 : Q_[spring_q(k)]; }
+  double spring_rate(int k) const { return spring_v(k) < 0 ? 0.0 : V_[spring_v(k)]; }
   int num_joints() const { return static_cast<int>(kernel_.joint_names().size()); }
   const ActuatorParams& actuator(int k) const { return acts_[static_cast<std::size_t>(k)]; }
   int actuator_joint(int k) const { return act_joint_[static_cast<std::size_t>(k)]; }  // joint coordinate
@@ -162,12 +170,13 @@ class PlantDynamics {
   PlantOptions opt_;
   std::vector<ActuatorParams> acts_;
   std::vector<int> act_joint_, act_of_joint_;
+  std::vector<int> spring_;                // per actuator: its index among the springs, or -1
   std::vector<HousingMass> housings_;
   GroundFrame ground_;
   ContactElements contact_;
   std::vector<JointStop> stops_;
   double housing_mass_ = 0;
-  int ntq_ = 0, ntv_ = 0, na_ = 0;
+  int ntq_ = 0, ntv_ = 0, na_ = 0, ns_ = 0;
   Eigen::VectorXd Q_, V_;
   Eigen::MatrixXd A_;
   Eigen::VectorXd r_, kv_, c_tree_;

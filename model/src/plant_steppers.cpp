@@ -41,9 +41,9 @@ bool FixedStepper::step(Eigen::VectorXd& Q, Eigen::VectorXd& V, double h, const 
     if (locked[i]) b_[static_cast<Eigen::Index>(i)] = -V[static_cast<Eigen::Index>(i)];
   if (!solver_.solve(dyn_.A(), locked, b_)) return false;
   V += b_;
-  const int ntq = dyn_.tree_nq(), ntv = dyn_.tree_nv(), na = dyn_.num_actuators();
+  const int ntq = dyn_.tree_nq(), ntv = dyn_.tree_nv(), ns = dyn_.num_springs();
   dyn_.kernel().integrate(Q.head(ntq), V.head(ntv), h);
-  Q.tail(na) += h * V.tail(na);
+  Q.tail(ns) += h * V.tail(ns);
   return true;
 }
 
@@ -94,13 +94,19 @@ struct AccurateIntegrator::Impl {
       : dyn(d), solver(d.nv()), atol(weights(d, accuracy)), stepper(WeightedErrorChecker{&atol, accuracy}),
         y(static_cast<std::size_t>(d.nq() + d.nv())), Q(d.nq()), V(d.nv()), b(d.nv()), qd(d.tree_nq()) {}
 
+  // Absolute tolerances: accuracy x the unit of each component (plant_steppers.hpp). A
+  // spring's unit depends on its kind: 1e-4 m and 1e-2 m/s for a VLCA's elastomer, 1e-3
+  // rad and 1e-1 rad/s for a rotary SEA's torsion spring.
   static std::vector<double> weights(const PlantDynamics& d, double accuracy) {
     std::vector<double> w;
-    const int na = d.num_actuators();
+    auto springs = [&](double linear, double rotary) {
+      for (int k = 0; k < d.num_actuators(); ++k)
+        if (d.spring_q(k) >= 0) w.push_back(accuracy * (d.actuator(k).is_rotary() ? rotary : linear));
+    };
     w.insert(w.end(), static_cast<std::size_t>(d.tree_nq()), accuracy);
-    w.insert(w.end(), static_cast<std::size_t>(na), accuracy * 1e-4);
+    springs(1e-4, 1e-3);
     w.insert(w.end(), static_cast<std::size_t>(d.tree_nv()), accuracy);
-    w.insert(w.end(), static_cast<std::size_t>(na), accuracy * 1e-2);
+    springs(1e-2, 1e-1);
     return w;
   }
 
@@ -114,7 +120,7 @@ struct AccurateIntegrator::Impl {
   }
 
   void rhs(const OdeState& x, OdeState& dxdt) {
-    const int nq = dyn.nq(), nv = dyn.nv(), ntq = dyn.tree_nq(), ntv = dyn.tree_nv(), na = dyn.num_actuators();
+    const int nq = dyn.nq(), nv = dyn.nv(), ntq = dyn.tree_nq(), ntv = dyn.tree_nv(), ns = dyn.num_springs();
     Q = Eigen::Map<const Eigen::VectorXd>(x.data(), nq);
     V = Eigen::Map<const Eigen::VectorXd>(x.data() + nq, nv);
     dyn.set_state(Q, V);
@@ -126,7 +132,7 @@ struct AccurateIntegrator::Impl {
     }
     dyn.kernel().qdot(V.head(ntv), qd);
     d.head(ntq) = qd;
-    d.segment(ntq, na) = V.tail(na);
+    d.segment(ntq, ns) = V.tail(ns);
   }
 };
 

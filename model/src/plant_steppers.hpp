@@ -9,8 +9,9 @@
 // explicitly (symplectic Euler). Locked joints keep v = 0 (their rows become identity).
 // AccurateIntegrator: Boost.Odeint's Dormand-Prince 5(4) with error control on the
 // same equations V' = M^-1 (f - c); the error per component is weighed against
-// accuracy x (a unit of each kind: 1 rad or m, 1e-4 m of spring, 1 rad/s, 1e-2 m/s of
-// spring rate). Both allocate nothing per step once running.
+// accuracy x (a unit of each kind: 1 rad or m, 1e-4 m of a VLCA's spring or 1e-3 rad of
+// a rotary SEA's, 1 rad/s, 1e-2 m/s or 1e-1 rad/s of spring rate). Both allocate nothing
+// per step once running.
 #include "plant_dynamics.hpp"
 
 #include <Eigen/Cholesky>

@@ -101,15 +101,17 @@ TEST(LoadActuators, MissingFileNamesTheFile) {
     FAIL() << "no error";
   } catch (const dm::ModelError& e) {
     // No line to name: the message is "PATH: cannot read: REASON (...)".
-    EXPECT_EQ(std::string(e.what()), path + ": cannot read: No such file or directory (expected a YAML actuator table)");
+    EXPECT_EQ(std::string(e.what()), path + ": cannot read: No such file or directory (expected a YAML actuator file)");
   }
 }
 
 TEST(LoadActuators, MalformedYaml) { expect_error("malformed.yaml", 8, "malformed YAML: end of map flow not found"); }
-TEST(LoadActuators, EmptyFile) { expect_error("empty.yaml", 1, "expected a map with the key 'actuators'"); }
-TEST(LoadActuators, NotAMap) { expect_error("not_a_map.yaml", 2, "expected a map with the key 'actuators'"); }
+TEST(LoadActuators, EmptyFile) {
+  expect_error("empty.yaml", 1, "expected a map with the keys 'format' (1) and 'actuators'");
+}
+TEST(LoadActuators, NotAMap) { expect_error("not_a_map.yaml", 2, "expected a map with the keys 'format' (1) and 'actuators'"); }
 TEST(LoadActuators, UnknownTopLevelKey) {
-  expect_error("unknown_top_key.yaml", 2, "unknown top-level key 'actuator' (expected one of: actuators)");
+  expect_error("unknown_top_key.yaml", 2, "unknown top-level key 'actuator' (expected one of: format, actuators)");
 }
 TEST(LoadActuators, UnknownKey) {
   expect_error("unknown_key.yaml", 12, "actuator 'l_knee': unknown key 'B_s_Ns_per_mm' (expected one of: joint, kind,");
@@ -132,13 +134,13 @@ TEST(LoadActuators, NotANumber) {
   expect_error("not_a_number.yaml", 8, "actuator 'l_knee': 'K_s_N_per_m' (N/m): expected a number, got 'stiff'");
 }
 TEST(LoadActuators, UnknownKind) {
-  expect_error("unknown_kind.yaml", 4, "actuator 'l_knee': unknown kind 'SEA' (expected RFSEA or FSEA)");
+  expect_error("unknown_kind.yaml", 4, "actuator 'l_knee': unknown kind 'SEA' (expected rfsea, fsea, rotary or rotary_sea)");
 }
 TEST(LoadActuators, FseaHasNoReactionMass) {
-  expect_error("fsea_reaction_mass.yaml", 10, "'M_r_kg' applies to an RFSEA only");
+  expect_error("fsea_reaction_mass.yaml", 10, "actuator 'l_knee': 'M_r_kg' applies to kind rfsea only, not fsea");
 }
 TEST(LoadActuators, DuplicateJoint) {
-  expect_error("duplicate_joint.yaml", 24, "joint 'l_knee' has a second actuator");
+  expect_error("duplicate_joint.yaml", 24, "joint 'l_knee' has a second actuator (the first is at line 3)");
 }
 TEST(LoadActuators, BadLinkageSign) {
   expect_error("bad_sign.yaml", 16, "actuator 'l_knee' linkage: 'sign' must be +1 or -1, got 0.5");

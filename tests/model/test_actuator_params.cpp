@@ -1,4 +1,4 @@
-// DRACO's actuator table (model/draco/actuators.yaml) against its sources, and the
+// DRACO's actuator table (robots/draco/actuators.yaml) against its sources, and the
 // locked-output current -> force transfer function
 //   P_inf(s) = k_tau N_m K_r / ((M_r + J_m N_m^2) s^2 + (B_r + B_m N_m^2) s + K_r)
 // (docs/paper-actuators.md section 1, "M_l -> inf") checked against a time-domain

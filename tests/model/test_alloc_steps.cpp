@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "malloc_counter.hpp"
+#include "plant_fixtures.hpp"
 
 
 using dmbd::test::g_allocations;
@@ -85,6 +86,51 @@ TEST(NoAllocation, FixedStepOnABoxACylinderAndAMesh) {
   int touching = 0;
   for (const ContactReading& c : p.contacts()) touching += c.force_W.z() > 0.1;  // the rims, softer at 0.1 mm, carry ~0.7 N
   EXPECT_EQ(touching, 3);  // every law ran
+}
+
+// A hip, knee and ankle chain on a geared ROTARY (no spring
+// coordinate) and two ROTARY_SEAs, with Coulomb friction moving in and out of its cone.
+TEST(NoAllocation, FixedStepOnRotaryActuators) {
+  DMBD_SKIP_UNDER_ASAN();
+  RobotDescription r;
+  r.name = "chain";
+  r.links.push_back(testing::point_link("base", 1.0, {0, 0, 0}, 0.01));
+  r.links.push_back(testing::point_link("thigh", 2.0, {0, 0, -0.2}, 0.02));
+  r.links.push_back(testing::point_link("shank", 1.5, {0, 0, -0.2}, 0.01));
+  r.links.push_back(testing::point_link("foot", 0.5, {0.05, 0, -0.03}, 0.001));
+  r.joints.push_back(testing::revolute("hip", "base", "thigh", {0, 0, 0}, {0, 1, 0}));
+  r.joints.push_back(testing::revolute("knee", "thigh", "shank", {0, 0, -0.4}, {0, 1, 0}));
+  r.joints.push_back(testing::revolute("ankle", "shank", "foot", {0, 0, -0.4}, {0, 1, 0}));
+  PlantOptions o;
+  o.base = BaseMode::Fixed;
+  o.contact = false;
+  o.integration = Integration::Fixed;
+  for (const char* j : {"hip", "knee", "ankle"}) {
+    ActuatorParams a;
+    a.joint = j;
+    a.kind = std::string(j) == "hip" ? ActuatorKind::ROTARY : ActuatorKind::ROTARY_SEA;
+    a.N_m_rad_per_m = 50;
+    a.K_s_N_per_m = 300;
+    a.B_s_Ns_per_m = 0.5;
+    a.B_l_Ns_per_m = 0.02;
+    a.torque_limit_Nm = 30;
+    a.viscous_friction_Nms = 0.1;
+    a.coulomb_friction_Nm = 0.5;
+    a.M_r_kg = 0;
+    o.actuators.push_back(a);
+  }
+  Plant p(r, o);
+  Eigen::VectorXd i = Eigen::VectorXd::Constant(3, 0.5);
+  p.set_currents(i);
+  p.advance_to(0.01);
+  const long before = g_allocations.load();
+  for (int k = 2; k <= 200; ++k) {
+    i[k % 3] = (k % 7 - 3) * 0.5;
+    p.set_currents(i);
+    p.advance_to(0.005 * k);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0) << "allocations in 398 fixed steps";
+  EXPECT_GT(p.integrator_steps(), 390);
 }
 
 TEST(NoAllocation, ControllerUpdateOfRobotDynamics) {

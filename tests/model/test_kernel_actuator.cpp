@@ -294,3 +294,77 @@ TEST(ActuatorLockedOutput, ReducesToThePapersPlant) {
 
 }  // namespace
 }  // namespace dmbd::model::detail
+
+// ---- the geared rotary kinds ------------------------------------------------------------
+
+namespace dmbd::model::detail {
+namespace {
+
+ActuatorParams geared(ActuatorKind kind) {
+  ActuatorParams p;
+  p.kind = kind;
+  p.J_m_kgm2 = 1.2e-5;
+  p.B_m_Nms = 1e-5;
+  p.N_m_rad_per_m = 100;
+  p.k_tau_Nm_per_A = 0.05;
+  p.efficiency = 0.8;
+  p.K_s_N_per_m = 350;
+  p.B_s_Ns_per_m = 0.8;
+  p.viscous_friction_Nms = 0.1;
+  p.coulomb_friction_Nm = 0.4;
+  p.coulomb_velocity_rad_s = 2e-3;
+  p.B_l_Ns_per_m = 0.05;
+  return p;
+}
+
+// M = J' a a^T with a = (1, 1) (ROTARY_SEA) or (1, 0) (ROTARY); f from the closed form
+// of docs/model.md; D = -df/dV by central differences inside the Coulomb cone (where the
+// slope tau_c / w_s is part of D) and beyond it (where it is not); K = -df/dQ.
+TEST(RotaryTerms, ClosedFormAndJacobians) {
+  for (ActuatorKind kind : {ActuatorKind::ROTARY, ActuatorKind::ROTARY_SEA}) {
+    const ActuatorParams p = geared(kind);
+    const bool sea = kind == ActuatorKind::ROTARY_SEA;
+    const double Jp = p.J_m_kgm2 * 1e4, Bp = p.B_m_Nms * 1e4, i = 3.0, q = 0.4;
+    for (const double w_target : {5e-4, 0.3}) {  // inside and beyond w_s = 2e-3
+      const double s = sea ? 0.01 : 0.0, sd = sea ? -0.2 : 0.0, qd = w_target - sd;
+      const ActuatorTerms t = actuator_terms(p, q, qd, s, sd, i);
+      const Eigen::Vector2d a(1.0, sea ? 1.0 : 0.0);
+      const double w = qd + sd;
+      const double coulomb = -0.4 * std::clamp(w / 2e-3, -1.0, 1.0);
+      Eigen::Vector2d f = (0.8 * 0.05 * 100 * i - (Bp + 0.1) * w + coulomb) * a;
+      f[0] -= 0.05 * qd;
+      if (sea) f[1] -= 350 * s + 0.8 * sd;
+      EXPECT_LT(max_abs(t.M - Jp * a * a.transpose()), 1e-15);
+      EXPECT_LT((t.f - f).cwiseAbs().maxCoeff(), 1e-12 * f.cwiseAbs().maxCoeff());
+      // Differences: f is piecewise linear in V, so a step inside one piece (1e-5 of
+      // w_s away from its ends) is exact up to rounding.
+      const double h = 1e-7;
+      Eigen::Matrix2d Dfd = Eigen::Matrix2d::Zero();
+      Dfd.col(0) = -(actuator_terms(p, q, qd + h, s, sd, i).f - actuator_terms(p, q, qd - h, s, sd, i).f) / (2 * h);
+      if (sea) Dfd.col(1) = -(actuator_terms(p, q, qd, s, sd + h, i).f - actuator_terms(p, q, qd, s, sd - h, i).f) / (2 * h);
+      EXPECT_LT(max_abs(Dfd - t.D), 1e-6 * max_abs(t.D)) << "w = " << w;
+      const bool inside = std::abs(w) < 2e-3;
+      EXPECT_EQ(t.D(0, 0), Bp + 0.1 + (inside ? 0.4 / 2e-3 : 0.0) + 0.05) << "w = " << w;
+      Eigen::Matrix2d Kfd = Eigen::Matrix2d::Zero();
+      if (sea) Kfd.col(1) = -(actuator_terms(p, q, qd, s + 1e-5, sd, i).f - actuator_terms(p, q, qd, s - 1e-5, sd, i).f) / 2e-5;
+      Kfd.col(0) = -(actuator_terms(p, q + 1e-5, qd, s, sd, i).f - actuator_terms(p, q - 1e-5, qd, s, sd, i).f) / 2e-5;
+      EXPECT_LT(max_abs(Kfd - t.K), 1e-6 * 350) << "w = " << w;
+      EXPECT_EQ(t.K(1, 1), sea ? 350.0 : 0.0);
+    }
+  }
+}
+
+// The readings and energies of a gear: theta_m = N (q + s), theta_m' = N (q' + s'),
+// T = 1/2 J_m theta_m'^2, U = 1/2 K s^2 (ROTARY: none).
+TEST(RotaryTerms, ReadingsAndEnergies) {
+  const ActuatorParams sea = geared(ActuatorKind::ROTARY_SEA), rigid = geared(ActuatorKind::ROTARY);
+  EXPECT_DOUBLE_EQ(motor_angle(sea, 0.3, 0.01), 100 * 0.31);
+  EXPECT_DOUBLE_EQ(motor_velocity(sea, 0.3, 2.0, -0.5), 150.0);
+  EXPECT_DOUBLE_EQ(actuator_kinetic_energy(sea, 0.3, 2.0, -0.5), 0.5 * 1.2e-5 * 150.0 * 150.0);
+  EXPECT_DOUBLE_EQ(actuator_potential_energy(sea, 0.01), 0.5 * 350 * 1e-4);
+  EXPECT_EQ(actuator_potential_energy(rigid, 0.0), 0.0);
+  EXPECT_DOUBLE_EQ(motor_angle(rigid, 0.3, 0.0), 30.0);
+}
+
+}  // namespace
+}  // namespace dmbd::model::detail

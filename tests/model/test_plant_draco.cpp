@@ -1,4 +1,4 @@
-// DRACO in Simbody: the model built from model/draco/draco.urdf and actuators.yaml,
+// DRACO in Simbody: the model built from robots/draco/draco.urdf and actuators.yaml,
 // its gravity torques against an independent computation, energy conservation of the
 // free fixed-base robot, and standing on the ground.
 #include "robot_files.hpp"

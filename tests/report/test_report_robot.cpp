@@ -146,7 +146,7 @@ TEST_F(Draco, SceneFromRobot) {
   std::size_t meshes = 0;
   for (const auto& b : scene_->bodies) meshes += b.meshes.size();
   EXPECT_EQ(meshes, visuals);
-  EXPECT_EQ(meshes, 46u);  // 29 meshes + 17 primitives (model/draco/README.md)
+  EXPECT_EQ(meshes, 46u);  // 29 meshes + 17 primitives (robots/draco/README.md)
   EXPECT_GT(scene_->triangle_count(), 10000u);
   // Every part is closed and outward wound (the README's claim), so all are culled safely.
   Renderer renderer(kW, kH);

@@ -387,7 +387,7 @@ const char* const kActuated[] = {"l_hip_yaw", "l_hip_roll", "l_hip_pitch", "l_kn
                                  "r_hip_yaw", "r_hip_roll", "r_hip_pitch", "r_knee", "r_ankle"};
 
 model::ActuatorParams actuator_of(const std::string& joint) {
-  for (const auto& a : dmbd::test::draco_actuators())  // model/draco/actuators.yaml
+  for (const auto& a : dmbd::test::draco_actuators())  // robots/draco/actuators.yaml
     if (a.joint == joint) return a;
   throw std::runtime_error("no actuator for " + joint);
 }

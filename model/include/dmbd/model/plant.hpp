@@ -1,24 +1,27 @@
 #pragma once
-// The simulated robot: the URDF's multibody tree plus DRACO's series-elastic actuators
-// (rotor, ball screw, elastomer, linkage), joint limits and damping, and compliant ground
-// contact of every collision shape, in generalized coordinates without constraints. Eigen types only; Simbody
+// The simulated robot: the URDF's multibody tree plus its actuators (DRACO's series-
+// elastic VLCAs: rotor, ball screw, elastomer, linkage; geared rotary motors, rigid or
+// with a torsion spring), joint limits and damping, and compliant ground contact of every
+// collision shape, in generalized coordinates without constraints. Eigen types only; Simbody
 // stays in model/src/ (it realises the tree's kinematics).
 //
 // Inputs are held constant between calls to advance_to() (zero-order hold, as a
 // sampled controller drives it): motor currents for actuated joints, joint torques for
 // joints without an actuator (or every joint when actuators are off).
 //
-// Each actuator adds one coordinate, its spring deflection s: for an RFSEA the
-// elastomer compression x_r under the housing (the reaction mass M_r, a point mass on
-// the parent link's axis), for an FSEA the nut-to-output deflection. The rigid ball
-// screw makes the rotor angle theta_m = N_m (dx(q) + s), dx(q) = x(q) - x(0) the change
-// of the linkage length, so the rotor's inertia J_m N_m^2 enters the mass matrix
-// analytically (model/src/actuator_terms.hpp, docs/model.md section 6).
+// An actuator with a spring adds one coordinate, its spring deflection s: for an RFSEA
+// the elastomer compression x_r under the housing (the reaction mass M_r, a point mass
+// on the parent link's axis), for an FSEA the nut-to-output deflection, for a ROTARY_SEA
+// the torsion spring's twist (rad). A ROTARY adds none. The rigid transmission makes the
+// rotor angle theta_m = N_m (travel(q) + s), travel(q) = x(q) - x(0) the change of the
+// linkage length or q itself for a gear, so the rotor's inertia J_m N_m^2 enters the mass
+// matrix analytically (model/src/actuator_terms.hpp, docs/model.md section 6).
 //
 // Two integrators share these equations: Accurate (error-controlled Dormand-Prince 5(4),
 // for identification and frequency responses) and Fixed (a semi-implicit step in which
-// the stiff terms -- elastomer springs and dampers, joint and output damping, limits,
-// contact normal and sticking friction -- enter the linear solve
+// the stiff terms -- springs and dampers, joint, output and gear damping, the gear's
+// Coulomb friction inside its regularisation, limits, contact normal and sticking
+// friction -- enter the linear solve
 // (M + h D + h^2 K) dv = h (f - c) - h^2 K v; no allocation per step).
 
 #include "dmbd/model/actuator.hpp"
@@ -63,7 +66,7 @@ struct PlantOptions {
   BaseMode base = BaseMode::Floating;
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  // root pose when fixed
   double gravity_m_s2 = 9.81;
-  std::vector<ActuatorParams> actuators;   // one per actuated joint; empty: ideal torques
+  std::vector<ActuatorParams> actuators;   // one per actuated joint (check_actuators_against); the others: ideal torques
   bool contact = true;                     // the ground under every collision shape
   ContactParams contact_params;
   // The ground plane through the origin, its upward normal (normalised; n.z > 0 or the
@@ -124,7 +127,7 @@ class Plant {
   void unlock_joint(int joint);
 
   // Inputs (held until changed).
-  void set_currents(const Eigen::VectorXd& current_A);     // per actuator, clamped to its limit
+  void set_currents(const Eigen::VectorXd& current_A);     // per actuator, clamped to ActuatorParams::applied_current_limit_A()
   void set_joint_torques(const Eigen::VectorXd& tau);      // per joint, added to actuator torque
   void set_external_force(int link, const Eigen::Vector3d& p_L, const Eigen::Vector3d& f_W);
   void clear_external_forces();
@@ -140,14 +143,19 @@ class Plant {
   Eigen::VectorXd joint_velocities() const;
   Eigen::Isometry3d base_pose() const;
   Eigen::Matrix<double, 6, 1> base_velocity() const;       // [omega_W; v_W]
-  Eigen::VectorXd actuator_forces() const;                 // sensed elastomer force K_s s, N
-  Eigen::VectorXd spring_deflections() const;              // s: x_r (RFSEA) or theta/N_m - dx (FSEA), m
-  Eigen::VectorXd motor_angles() const;                    // rad
+  // Per actuator. "Force" is along the travel: N for a VLCA, N m for the rotary kinds.
+  // Spring kinds: the sensed spring force K_s s. ROTARY: the drive's torque estimate from
+  // the applied current, efficiency k_tau N i (N m; friction and the rotor's inertia not
+  // subtracted).
+  Eigen::VectorXd actuator_forces() const;
+  Eigen::VectorXd spring_deflections() const;              // s: x_r (RFSEA), theta/N_m - dx (FSEA), m; twist (ROTARY_SEA), rad; 0 (ROTARY)
+  Eigen::VectorXd motor_angles() const;                    // N_m (travel(q) + s), rad
   Eigen::VectorXd motor_velocities() const;                // rad/s
   Eigen::VectorXd applied_currents() const;                // after clamping, A
-  // The joint torque a controller estimates from the sensed force: F_sensed x moment arm
-  // (exact in statics; in motion the screw force also accelerates the reaction mass).
-  Eigen::VectorXd joint_torque_estimates() const;          // N m
+  // The joint torque a controller estimates from the sensed force: actuator_forces() x
+  // moment_arm(q) (exact in statics; in motion the screw force also accelerates the
+  // reaction mass).
+  Eigen::VectorXd joint_torque_estimates() const;          // N m, per joint (0 where no actuator)
   std::vector<Eigen::Isometry3d> link_poses() const;       // X_WL per description link
   std::vector<ContactReading> contacts() const;
   Eigen::Vector3d com_position() const;
