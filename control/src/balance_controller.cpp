@@ -108,16 +108,17 @@ void BalanceController::Impl::make_tasks() {
 
 void BalanceController::Impl::bind_actuators(const std::vector<model::ActuatorParams>& actuators) {
   for (const auto& j : model.layout().joints) {
-    std::optional<model::LinkageGeometry> g;
+    std::optional<model::ActuatorParams> g;
     double mass = 0.0, damping = 0.0, eta = 1.0;
     for (const auto& a : actuators)
       if (a.joint == j.name) {
-        g = a.linkage;
+        g = a;
         mass = a.reflected_mass_kg();
-        damping = a.reflected_damping_Ns_per_m() + a.B_l_Ns_per_m;
+        // Along the transmission: the rotor's, the gear's viscous friction and the output side's.
+        damping = a.reflected_damping_Ns_per_m() + a.viscous_friction_Nms + a.B_l_Ns_per_m;
         eta = a.efficiency;
       }
-    linkage.push_back(g);
+    actuator.push_back(g);
     rotor_mass.push_back(mass);
     actuator_damping.push_back(damping);
     efficiency.push_back(eta);
@@ -130,10 +131,10 @@ void BalanceController::Impl::bind_actuators(const std::vector<model::ActuatorPa
 // reaches the screw is η k_τ N_m i; the loop's k_ff = 1/(k_τ N_m) leaves η out).
 double BalanceController::Impl::actuator_force(int j) const {
   const auto k = static_cast<size_t>(j);
-  const model::LinkageGeometry& g = *linkage[k];
+  const model::ActuatorParams& g = *actuator[k];
   const double F = tau_ff[j] * g.N_l(joint_q[j]);
   if (!setup.actuator_feedforward) return F;
-  const double r = g.moment_arm_m(joint_q[j]), dr = g.dmoment_arm_dq_m(joint_q[j]);
+  const double r = g.moment_arm(joint_q[j]), dr = g.dmoment_arm_dq(joint_q[j]);
   const double xd = r * qd_des[j], xdd = r * qdd_joint[j] + dr * qd_des[j] * qd_des[j];
   return (F + rotor_mass[k] * xdd + actuator_damping[k] * xd) / efficiency[k];
 }
@@ -166,7 +167,7 @@ void BalanceController::Impl::name_ports() {
   for (const auto& j : joints) out(j.name + ".qd_des", "rad/s");
   for (const auto& j : joints) out(j.name + ".tau_ff", "N m");
   for (int k = 0; k < nj; ++k)
-    if (linkage[static_cast<size_t>(k)]) out(joints[static_cast<size_t>(k)].name + ".force_ff", "N");
+    if (actuator[static_cast<size_t>(k)]) out(joints[static_cast<size_t>(k)].name + ".force_ff", actuator[static_cast<size_t>(k)]->is_rotary() ? "N m" : "N");
   const std::string p = setup.name + ".";
   for (const char* n : {"phase", "swing_side", "step", "touch_downs", "landings", "qp_failures", "fallen"}) out(p + n, "");
   for (const char* n : {"com_x", "com_y", "com_z"}) out(p + n, "m");
@@ -218,7 +219,7 @@ std::vector<JointCommand> BalanceController::joint_commands() const {
   for (std::size_t k = 0; k < joints.size(); ++k) {
     const std::string& j = joints[k].name;
     JointCommand jc{j, {j + ".q_des", j + ".qd_des", j + ".tau_ff"}};
-    if (impl_->linkage[k]) jc.signals.push_back(j + ".force_ff");
+    if (impl_->actuator[k]) jc.signals.push_back(j + ".force_ff");
     c.push_back(jc);
   }
   return c;
@@ -256,7 +257,7 @@ void BalanceController::Impl::write_outputs(const wholebody::PhaseInfo& ph, doub
   for (int j = 0; j < nj; ++j) y[o++] = qd_des[j];
   for (int j = 0; j < nj; ++j) y[o++] = tau_ff[j];
   for (int j = 0; j < nj; ++j)
-    if (linkage[static_cast<size_t>(j)]) y[o++] = actuator_force(j);
+    if (actuator[static_cast<size_t>(j)]) y[o++] = actuator_force(j);
   const wholebody::SwingSample s = swing.at(ph.phase == wholebody::Phase::Swing ? ph.time_in_phase_s : 0.0);
   const Eigen::Vector3d stance = foot_point(wholebody::other(ph.swing_side)), moving = foot_point(ph.swing_side);
   const Eigen::Vector3d com_v = data.J_com * v;

@@ -31,7 +31,7 @@ struct BalanceController::Impl {
   int torso_frame = 0;
   std::array<int, 2> foot_frame{}, ankle{}, hip_yaw{};
   int nj = 0;
-  std::vector<std::optional<model::LinkageGeometry>> linkage;  // per joint
+  std::vector<std::optional<model::ActuatorParams>> actuator;  // per joint: its actuator, if any
   // Per joint with an actuator (0 without): the reflected rotor mass J_m N_m² (kg), the
   // damping along the actuator B_m N_m² + B_l (N s/m) and the drive efficiency.
   std::vector<double> rotor_mass, actuator_damping, efficiency;

@@ -37,7 +37,7 @@ struct OscController::Impl {
   std::unique_ptr<wholebody::PostureTask> posture;
   std::unique_ptr<wholebody::OperationalSpaceControl> osc;
   std::vector<std::string> joints;
-  std::vector<std::optional<model::LinkageGeometry>> linkage;  // per joint: its actuator's, if any
+  std::vector<std::optional<model::ActuatorParams>> actuator;  // per joint: its actuator, if any
   std::vector<double> load_damping;  // per joint: its actuator's output-side damping B_l (N s/m), or 0
   std::vector<std::string> in_names, out_names, out_units;
   std::vector<int> ideal;  // the joints without an actuator (their torque drives the plant)
@@ -78,15 +78,15 @@ void OscController::Impl::name_ports() {
     in_names.push_back(j + "." + setup.qd_signal);
   }
   for (int k = 0; k < nj(); ++k)
-    if (linkage[static_cast<size_t>(k)]) in_names.push_back(joints[static_cast<size_t>(k)] + ".force");
+    if (actuator[static_cast<size_t>(k)]) in_names.push_back(joints[static_cast<size_t>(k)] + ".force");
   auto out = [&](const std::string& n, const char* unit) {
     out_names.push_back(n);
     out_units.emplace_back(unit);
   };
   for (const auto& j : joints) out(j + ".tau_d", "N m");
   for (int k = 0; k < nj(); ++k)
-    if (linkage[static_cast<size_t>(k)]) {
-      out(joints[static_cast<size_t>(k)] + ".force_d", "N");
+    if (actuator[static_cast<size_t>(k)]) {
+      out(joints[static_cast<size_t>(k)] + ".force_d", actuator[static_cast<size_t>(k)]->is_rotary() ? "N m" : "N");
       out(joints[static_cast<size_t>(k)] + ".tau_s", "N m");
     }
   for (int k : ideal) out(joints[static_cast<size_t>(k)] + ".torque", "N m");
@@ -114,16 +114,16 @@ void OscController::Impl::make_tasks() {
   osc = std::make_unique<wholebody::OperationalSpaceControl>(layout, 3, static_cast<int>(all.size()));
 }
 
-// Each joint's actuator linkage and output-side damping (none for a joint without one).
+// Each joint's actuator and output-side damping (none for a joint without one).
 void OscController::Impl::bind_actuators(const std::vector<model::ActuatorParams>& actuators) {
   for (const auto& j : model.layout().joints) {
     joints.push_back(j.name);
-    std::optional<model::LinkageGeometry> l;
+    std::optional<model::ActuatorParams> l;
     double b_l = 0.0;
     for (const auto& p : actuators)
-      if (p.joint == j.name) l = p.linkage, b_l = p.B_l_Ns_per_m;
-    if (!l) ideal.push_back(static_cast<int>(linkage.size()));
-    linkage.push_back(l);
+      if (p.joint == j.name) l = p, b_l = p.B_l_Ns_per_m;
+    if (!l) ideal.push_back(static_cast<int>(actuator.size()));
+    actuator.push_back(l);
     load_damping.push_back(setup.compensate_load_damping ? b_l : 0.0);
   }
 }
@@ -163,7 +163,7 @@ const std::vector<std::string>& OscController::joints() const { return impl_->jo
 std::vector<JointCommand> OscController::joint_commands() const {
   std::vector<JointCommand> c;
   for (std::size_t k = 0; k < impl_->joints.size(); ++k)
-    if (impl_->linkage[k]) c.push_back({impl_->joints[k], {impl_->joints[k] + ".force_d"}});
+    if (impl_->actuator[k]) c.push_back({impl_->joints[k], {impl_->joints[k] + ".force_d"}});
   return c;
 }
 
@@ -207,7 +207,7 @@ void OscController::Impl::add_load_damping(const Eigen::Vector3d& v_d) {
   for (int k = 0; k < nj(); ++k) {
     const auto& j = layout.joints[static_cast<size_t>(k)];
     const double b_l = load_damping[static_cast<size_t>(k)];
-    const double r = b_l > 0.0 ? linkage[static_cast<size_t>(k)]->moment_arm_m(q[j.q_index]) : 0.0;
+    const double r = b_l > 0.0 ? actuator[static_cast<size_t>(k)]->moment_arm(q[j.q_index]) : 0.0;
     D(j.v_index, j.v_index) = b_l * r * r;
     largest = std::max(largest, b_l * r * r);
   }
@@ -230,7 +230,7 @@ void OscController::Impl::write_outputs(const double* u, double* y, const Eigen:
   int out = 0, force_in = 2 * nj();
   for (int k = 0; k < nj(); ++k) y[out++] = tau[layout.joints[static_cast<size_t>(k)].v_index];
   for (int k = 0; k < nj(); ++k) {
-    const std::optional<model::LinkageGeometry>& l = linkage[static_cast<size_t>(k)];
+    const std::optional<model::ActuatorParams>& l = actuator[static_cast<size_t>(k)];
     if (!l) continue;
     const auto& j = layout.joints[static_cast<size_t>(k)];
     const double n_l = l->N_l(q[j.q_index]);

@@ -72,7 +72,7 @@ void Experiment::record(const ExperimentSetup& setup, const RecordContext& c, st
     double q0 = 0.0;
     for (const auto& [name, q] : c.initial_angles)
       if (name == a.joint) q0 = q;
-    const double n_l = a.linkage.N_l(q0);
+    const double n_l = a.N_l(q0);
     const int j = c.robot.joint_index(a.joint);
     const std::map<std::string, double> values = {{"J_m", a.J_m_kgm2}, {"B_m", a.B_m_Nms}, {"M_r", a.M_r_kg}, {"B_r", a.B_s_Ns_per_m}, {"K_r", a.K_s_N_per_m},
              {"B_l", a.B_l_Ns_per_m}, {"M_l", model::subtree_axis_inertia(c.robot, j) * n_l * n_l}, {"k_tau", a.k_tau_Nm_per_A},

@@ -28,6 +28,8 @@ struct Plant::Impl {
   std::vector<char> locked;   // per entry of V
   double t = 0;
   long long steps = 0;
+  std::vector<double> effort;        // per joint: the ideal torque's limit (0: none)
+  std::vector<long long> clamps;     // per joint: torques clamped to it since reset()
 
   Impl(const RobotDescription& r, const PlantOptions& o)
       : robot(r), opt(o), dyn(robot, o), fixed(dyn), accurate(dyn, o.accuracy), Q(dyn.nq()), V(dyn.nv()),
@@ -35,6 +37,12 @@ struct Plant::Impl {
     if (o.integration == Integration::Fixed && !(o.step_s > 0 && std::isfinite(o.step_s)))
       throw ModelError("plant: fixed step " + std::to_string(o.step_s) + " s is not positive");
     if (!(o.accuracy > 0)) throw ModelError("plant: accuracy " + std::to_string(o.accuracy) + " is not positive");
+    effort.assign(static_cast<std::size_t>(dyn.num_joints()), 0.0);
+    clamps.assign(effort.size(), 0);
+    for (int c = 0; c < dyn.num_joints(); ++c) {
+      const Joint& j = robot.joints[static_cast<std::size_t>(dyn.kernel().joint_description_index()[static_cast<std::size_t>(c)])];
+      if (o.effort_limits && dyn.actuator_of_joint(c) < 0 && j.effort > 0) effort[static_cast<std::size_t>(c)] = j.effort;
+    }
   }
 
   int root_body() const { return dyn.kernel().body_of_link(0); }
@@ -136,6 +144,7 @@ void Plant::reset() {
   Impl& m = *impl_;
   m.steps = 0;
   m.t = 0;
+  std::fill(m.clamps.begin(), m.clamps.end(), 0);
   m.Q.setZero();
   m.Q.head(m.dyn.tree_nq()) = m.dyn.kernel().neutral_q();
   m.dyn.kernel().set_base_pose(m.Q.head(m.dyn.tree_nq()), m.opt.X_WB);
@@ -190,7 +199,15 @@ void Plant::set_joint_torques(const Eigen::VectorXd& tau) {
   Impl& m = *impl_;
   if (tau.size() != num_joints())
     throw ModelError("set_joint_torques: " + std::to_string(tau.size()) + " values for " + std::to_string(num_joints()) + " joints");
-  m.dyn.joint_torques = tau;
+  for (int c = 0; c < num_joints(); ++c) {
+    const double lim = m.effort[static_cast<std::size_t>(c)];
+    double v = tau[c];
+    if (lim > 0 && std::abs(v) > lim) {
+      v = std::clamp(v, -lim, lim);
+      ++m.clamps[static_cast<std::size_t>(c)];
+    }
+    m.dyn.joint_torques[c] = v;
+  }
 }
 
 void Plant::set_external_force(int link, const Eigen::Vector3d& p_L, const Eigen::Vector3d& f_W) {
@@ -323,5 +340,7 @@ Eigen::Vector3d Plant::imu_specific_force_B() const {
   return k.rotation(b).transpose() * a;
 }
 long long Plant::integrator_steps() const { return impl_->steps; }
+const std::vector<long long>& Plant::effort_clamp_events() const { return impl_->clamps; }
+const std::vector<double>& Plant::effort_limits() const { return impl_->effort; }
 
 }  // namespace dmbd::model

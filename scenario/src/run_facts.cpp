@@ -45,6 +45,9 @@ nlohmann::json run_json(const VariantResult& r) {
     j["fixed_point"].push_back({{"controller", f.controller}, {"output", f.output}, {"unit", f.unit}, {"word_bits", f.word_bits},
                                 {"error_bound", f.bound}, {"range", f.range}});
   if (!r.warnings.empty()) j["warnings"] = r.warnings;
+  for (const auto& [joint, n] : r.effort_clamp_events) j["effort_clamp_events"][joint] = n;
+  for (const auto& [joint, e] : r.velocity_limit_exceeded)
+    j["velocity_limit_exceeded"][joint] = {{"limit", e.limit}, {"peak", e.peak}, {"samples", e.samples}};
   if (r.sil) {
     nlohmann::json& sil = j["sil"];
     sil = {{"compiler", r.sil->compiler}, {"version", r.sil->version}, {"flags", r.sil->flags}, {"controllers", nlohmann::json::array()}};
@@ -74,6 +77,13 @@ void read_run_json(const nlohmann::json& j, VariantResult& r) {
       r.fixed_point.push_back({f.value("controller", ""), f.value("output", ""), f.value("unit", ""), f.value("word_bits", 0),
                                number_of(f["error_bound"]), number_of(f["range"])});
   r.warnings = j.value("warnings", std::vector<std::string>{});
+  if (j.contains("effort_clamp_events"))
+    for (auto it = j["effort_clamp_events"].begin(); it != j["effort_clamp_events"].end(); ++it)
+      r.effort_clamp_events[it.key()] = it.value().is_number_integer() ? it.value().get<long long>() : 0;
+  if (j.contains("velocity_limit_exceeded"))
+    for (auto it = j["velocity_limit_exceeded"].begin(); it != j["velocity_limit_exceeded"].end(); ++it)
+      r.velocity_limit_exceeded[it.key()] = {number_of(it.value().value("limit", nlohmann::json())), number_of(it.value().value("peak", nlohmann::json())),
+                                             it.value().value("samples", 0LL)};
 }
 
 }  // namespace dmbd::scenario

@@ -1,8 +1,9 @@
-// Running a scenario's variant: its robot and plant options (variant_plant) and the
-// co-simulation of it with its controllers (run_variant). Reading the file: scenario_load.cpp.
+// A scenario's variant's robot and plant options (variant_plant). Running it:
+// variant_run.cpp; reading the file: scenario_load.cpp.
 #include "engine_names.hpp"
 #include "dmbd/scenario/scenario.hpp"
 
+#include "variant_checks.hpp"
 #include "variant_controllers.hpp"
 
 #include <algorithm>
@@ -40,6 +41,8 @@ VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
     return it == r.where.end() ? s.file : it->second;
   };
   model::RobotDescription robot = load_robot(r);
+  check_joint_angles(s, r, robot);
+  const model::RobotDescription as_loaded = robot;  // the actuator file is checked against it (welded joints are its joints)
   // Welded joints.
   std::vector<std::pair<std::string, double>> freeze = r.freeze;
   if (r.freeze_all_others)
@@ -78,6 +81,7 @@ VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
       throw InputError(where("actuators") + ": robot.actuators: no actuator file: the robot folder names none; give robot.actuators: "
                                             "{file: FILE, joints: all} (docs/actuator-format.md)");
     table = model::load_actuators(r.actuator_file, blocks::expression_numbers());
+    model::check_actuators_against(table, as_loaded);
   }
   model::PlantOptions po;
   po.base = r.base;
@@ -103,7 +107,7 @@ VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
     const auto act = std::find_if(po.actuators.begin(), po.actuators.end(), [&](const auto& a) { return a.joint == load.joint; });
     if (j < 0 || act == po.actuators.end())
       throw InputError(where("loads:" + load.joint) + ": robot.loads: '" + load.joint + "' is not an actuated moving joint");
-    const double n_l = act->linkage.N_l(initial_of(load.joint));
+    const double n_l = act->N_l(initial_of(load.joint));
     const double need = load.reflected_mass_kg / (n_l * n_l) - model::subtree_axis_inertia(robot, j);
     if (need < 0)
       throw InputError(fmt::format("{}: robot.loads: {} kg reflected is less than the bare link's {:.1f} kg", where("loads:" + load.joint), load.reflected_mass_kg,
@@ -122,88 +126,6 @@ double initial_angle(const RobotSetup& r, const std::string& joint) {
   for (const auto& [n, q] : r.lock)
     if (n == joint) return q;
   return 0.0;
-}
-
-VariantResult run_variant(const Scenario& s, const VariantSetup& v, const RunOptions& options) {
-  const RobotSetup& r = v.robot;
-  auto where = [&](const std::string& key) {
-    const auto it = r.where.find(key);
-    return it == r.where.end() ? s.file : it->second;
-  };
-  const VariantPlant vp = variant_plant(s, v);
-  const model::RobotDescription& robot = vp.robot;
-  auto initial_of = [&](const std::string& joint) { return initial_angle(r, joint); };
-  VariantResult res;
-  res.name = v.name;
-  res.axes = v.axes;
-  model::Plant plant(robot, vp.options);
-  plant.reset();
-  Eigen::VectorXd q0 = plant.joint_positions();
-  for (const auto& [n, q] : r.initial) {
-    const int j = plant.joint_index(n);
-    if (j < 0) throw InputError(where("initial:" + n) + ": robot.initial: '" + n + "' is not a moving joint");
-    q0[j] = q;
-  }
-  plant.set_joint_positions(q0);
-  plant.place_on_ground();  // a floating robot stands on its feet in its initial posture
-  for (const auto& [n, q] : r.lock) {
-    const int j = plant.joint_index(n);
-    if (j < 0) throw InputError(where("lock:" + n) + ": robot.lock: '" + n + "' is not a moving joint");
-    plant.lock_joint(j, q);
-  }
-
-  // The simulator's true values the experiment reads (experiments/experiment.hpp).
-  if (const experiments::Experiment* e = experiments::find_experiment(s.experiment.type)) {
-    std::vector<std::pair<std::string, double>> q0;
-    for (const auto& j : robot.joints) q0.emplace_back(j.name, initial_of(j.name));
-    e->record(s.experiment, {plant, robot, q0}, res.truth);
-  }
-
-  SimulationSpec spec;
-  spec.references = v.references;
-  spec.forces = v.forces;
-  if (v.robot.support) {
-    if (v.robot.base != model::BaseMode::Floating) {
-      const auto w = v.robot.where.find("support");
-      throw InputError((w == v.robot.where.end() ? s.file : w->second) + ": robot.support: only a floating base can be supported");
-    }
-    spec.support = v.robot.support;
-  }
-  if (v.end_on_fall && v.robot.base != model::BaseMode::Floating)
-    throw InputError(s.file + ": end_on_fall: only a floating-base robot can fall");
-  spec.end_on_fall = v.end_on_fall;
-  spec.duration_s = options.duration_s.value_or(v.duration_s);
-  spec.log_rate_hz = v.log_rate_hz;
-  spec.sensor_noise = v.sensor_noise;
-  spec.seed = v.seed;
-  spec.force_noise_N = v.force_noise_N;
-  spec.cooling = v.cooling;
-  std::vector<VariantController> scenario_controllers;
-  for (const auto& c : v.controllers) {
-    scenario_controllers.push_back(variant_controller(s, c, spec.duration_s));
-    const VariantController& vc = scenario_controllers.back();
-    spec.controllers.push_back(vc.spec);
-    res.fixed_point.insert(res.fixed_point.end(), vc.fixed_point.begin(), vc.fixed_point.end());
-  }
-
-  const std::vector<BusControllerRun> bus = bus_controllers(v, vp, plant, spec.duration_s);
-  for (const auto& b : bus) {
-    spec.controllers.push_back(bus_controller_spec(*b.options, b.controller));
-    b.controller->record(plant, res.truth);
-  }
-
-  Simulation sim(plant, spec);
-  const auto t0 = std::chrono::steady_clock::now();
-  const long long steps0 = plant.integrator_steps();
-  res.log = sim.run(options.on_progress);
-  res.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  res.real_time_factor = spec.duration_s / std::max(res.wall_s, 1e-9);
-  res.integrator_steps = plant.integrator_steps() - steps0;
-  res.controller_steps = sim.controller_steps();
-  record_controllers(sim, spec, scenario_controllers, res);
-  fixed_point_warnings(res);
-  for (const auto& b : bus) tick_timing(b.controller->tick_times_us(), b.controller->timing_name(), res);
-  return res;
 }
 
 }  // namespace dmbd::scenario

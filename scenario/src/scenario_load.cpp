@@ -370,7 +370,7 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   if (!root.IsMap()) rd.rd.fail(Location{path, 1, 1}, "a scenario is a map (name, robot, controllers, ...)");
   // Unknown keys are reported and the rest is read all the same.
   rd.rd.keys(root, {"name", "description", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz", "sensors",
-                    "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall", "frames", "plots", "variants", "matrix",
+                    "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall", "frames", "plots", "log", "variants", "matrix",
                     "experiment"},
              "scenario");
   Scenario s;
@@ -395,6 +395,7 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
                   "robot: expected 'name' (a robot folder: robots/NAME) or 'urdf' (a URDF file)");
   rd.optional(root, "frames", [&](const YAML::Node& f) { read_frames(rd, f, seen, s.frames); });
   rd.optional(root, "plots", [&](const YAML::Node&) { read_plots(rd, root, s.plots); });
+  rd.optional(root, "log", [&](const YAML::Node& l) { s.log_signals = rd.names(l, "log"); });
   s.experiment.file = path;
   rd.optional(root, "experiment", [&](const YAML::Node& e) { rd.experiment(e, s.experiment); });
   return s;

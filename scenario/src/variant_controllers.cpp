@@ -190,6 +190,16 @@ void tick_timing(const std::vector<double>& times_us, const std::string& prefix,
   r.timing_us[prefix + "_tick_us_max"] = *std::max_element(t.begin(), t.end());
 }
 
+void record_limits(const Simulation& sim, const model::Plant& plant, VariantResult& r) {
+  for (int j = 0; j < plant.num_joints(); ++j)
+    if (const long long n = plant.effort_clamp_events()[static_cast<std::size_t>(j)]; n > 0)
+      r.effort_clamp_events[plant.joint_names()[static_cast<std::size_t>(j)]] = n;
+  r.velocity_limit_exceeded = sim.velocity_limit_exceeded();
+  for (const auto& [joint, e] : r.velocity_limit_exceeded)
+    r.warnings.push_back(fmt::format("variant '{}': joint '{}' ran at up to {:.4g} (its URDF velocity limit: {:.4g}) in {} plant steps", r.name,
+                                     joint, e.peak, e.limit, e.samples));
+}
+
 void fixed_point_warnings(VariantResult& r) {
   for (const auto& f : r.fixed_point)
     if (!(f.bound <= f.range))  // a bound beyond the range, or none (inf)

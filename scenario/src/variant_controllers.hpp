@@ -52,6 +52,10 @@ sim::ControllerSpec bus_controller_spec(const control::BusControllerOptions& o, 
 // and [prefix + "_tick_us_max"].
 void tick_timing(const std::vector<double>& times_us, const std::string& prefix, VariantResult& r);
 
+// The URDF limits the run met: the ideal torques the plant clamped to a joint's effort
+// limit, the joints beyond their velocity limit (a warning each).
+void record_limits(const Simulation& sim, const model::Plant& plant, VariantResult& r);
+
 // A warning on the run for every fixed-point output whose bound exceeds its range, and
 // for saturations of a fixed-point controller (its bound does not hold past them).
 void fixed_point_warnings(VariantResult& r);

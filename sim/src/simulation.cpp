@@ -87,6 +87,8 @@ struct Simulation::Impl {
   int base_link = 0;
 
   Eigen::VectorXd currents, torques, q, qd;
+  std::vector<double> velocity_limit;           // per joint: the URDF's (0: none)
+  std::vector<VelocityExcess> velocity_excess;  // per joint
   Ns last_sensor_ns = -1;
 
   Impl(model::Plant& p, SimulationSpec s) : plant(p), spec(std::move(s)), rng(spec.seed) {
@@ -111,11 +113,15 @@ struct Simulation::Impl {
       for (int j = 0; j < nj; ++j)
         if (plant.actuator_of_joint(j) == k) joint = j;
       const std::string& J = a.joint;
-      ActuatorIo io{joint, add(J + ".current", "A"), add(J + ".q_enc", "rad"), add(J + ".q_pot", "rad"), add(J + ".force", "N"),
-                    add(J + ".motor_angle", "rad"), add(J + ".spring_deflection", "m"), -1, -1, -1, -1, -1, -1, -1,
+      // The rotary kinds' force is a torque and their spring's deflection an angle; a
+      // rigid geared motor has no spring, an actuator may have no potentiometer.
+      const char* force_unit = a.is_rotary() ? "N m" : "N";
+      ActuatorIo io{joint, add(J + ".current", "A"), add(J + ".q_enc", "rad"), a.has_potentiometer ? add(J + ".q_pot", "rad") : -1,
+                    add(J + ".force", force_unit), add(J + ".motor_angle", "rad"),
+                    a.has_spring() ? add(J + ".spring_deflection", a.is_rotary() ? "rad" : "m") : -1, -1, -1, -1, -1, -1, -1, -1,
                     model::Encoder(a.motor_encoder), model::Encoder(a.spring_encoder), std::nullopt,
                     model::ThermalModel(a.thermal), model::ThermalModel(a.thermal), 0.0, 0.0};
-      if (spec.sensor_noise) io.pot.emplace(a.potentiometer, spec.seed * 1000003ULL + static_cast<uint64_t>(k));
+      if (spec.sensor_noise && a.has_potentiometer) io.pot.emplace(a.potentiometer, spec.seed * 1000003ULL + static_cast<uint64_t>(k));
       acts.push_back(std::move(io));
     }
     // Logged-only signals after the bus ones: per actuator, and the force on each contact
@@ -127,7 +133,7 @@ struct Simulation::Impl {
     }
     for (auto& io : acts) {
       const std::string& J = plant.actuator(static_cast<int>(&io - acts.data())).joint;
-      io.force_true = add(J + ".force_true", "N");
+      io.force_true = add(J + ".force_true", plant.actuator(static_cast<int>(&io - acts.data())).is_rotary() ? "N m" : "N");
       io.current_applied = add(J + ".current_applied", "A");
       io.i2t = add(J + ".i2t", "A^2 s");
       if (spec.cooling != Cooling::Off) {
@@ -165,6 +171,11 @@ struct Simulation::Impl {
     for (const auto& c : spec.controllers) ctrls.push_back(bind(c));
     currents = Eigen::VectorXd::Zero(na);
     torques = Eigen::VectorXd::Zero(nj);
+    for (const auto& J : plant.joint_names()) {
+      const int d = plant.description().joint_index(J);
+      velocity_limit.push_back(d < 0 ? 0.0 : plant.description().joints[static_cast<std::size_t>(d)].velocity);
+    }
+    velocity_excess.assign(velocity_limit.size(), VelocityExcess{});
     for (auto& io : acts) {
       io.thermal_on.reset();
       io.thermal_off.reset();
@@ -204,6 +215,18 @@ struct Simulation::Impl {
 
   double t_of(Ns t) const { return static_cast<double>(t) * 1e-9; }
 
+  // Counts the joints beyond their URDF velocity limit (after a plant advance).
+  void watch_velocity_limits() {
+    for (int j = 0; j < nj; ++j) {
+      const double lim = velocity_limit[static_cast<std::size_t>(j)], v = std::abs(qd[j]);
+      if (!(lim > 0) || !(v > lim)) continue;
+      VelocityExcess& e = velocity_excess[static_cast<std::size_t>(j)];
+      e.limit = lim;
+      e.peak = std::max(e.peak, v);
+      ++e.samples;
+    }
+  }
+
   void refresh_true() {
     q = plant.joint_positions();
     qd = plant.joint_velocities();
@@ -228,6 +251,12 @@ struct Simulation::Impl {
   void refresh_references(double t) {
     for (std::size_t r = 0; r < ref_sig.size(); ++r) bus[static_cast<std::size_t>(ref_sig[r])] = spec.references[r].source.value(t);
   }
+  // The potentiometer's reading of joint angle q (exact without sensor noise).
+  static double potentiometer(ActuatorIo& io, double q, bool first, double dt) {
+    if (!io.pot) return q;
+    if (first) io.pot->reset(q);
+    return io.pot->read(q, first ? 1e-3 : dt);
+  }
   // Samples every sensor (once per controller instant; dt for the filters).
   void refresh_sensors(Ns t) {
     const bool first = last_sensor_ns < 0;
@@ -239,23 +268,19 @@ struct Simulation::Impl {
       ActuatorIo& io = acts[static_cast<std::size_t>(k)];
       const model::ActuatorParams& a = plant.actuator(k);
       const double th = spec.sensor_noise ? io.motor_enc.read(theta[k]) : theta[k];
-      const double x = spec.sensor_noise ? io.spring_enc.read(xs[k]) : xs[k];
+      const double x = !a.has_spring() ? 0.0 : (spec.sensor_noise ? io.spring_enc.read(xs[k]) : xs[k]);
       bus[static_cast<std::size_t>(io.motor)] = th;
-      bus[static_cast<std::size_t>(io.spring)] = x;
-      double force = a.K_s_N_per_m * x;
+      if (io.spring >= 0) bus[static_cast<std::size_t>(io.spring)] = x;
+      // The spring's sensed force (torque), or a rigid motor's estimate from its current.
+      double force = a.has_spring() ? a.K_s_N_per_m * x : f[k];
       if (spec.sensor_noise && spec.force_noise_N > 0) force += spec.force_noise_N * normal(rng);
       bus[static_cast<std::size_t>(io.force)] = force;
       bus[static_cast<std::size_t>(io.force_true)] = f[k];
       const double qj = io.joint >= 0 ? q[io.joint] : 0.0;
       if (first) io.q_enc_last = qj;  // Newton's first guess only (the firmware starts from its last reading)
-      io.q_enc_last = a.linkage.angle_for_length_change(th / a.N_m_rad_per_m - x, io.q_enc_last);
+      io.q_enc_last = a.angle_for_travel(th / a.N_m_rad_per_m - x, io.q_enc_last);
       bus[static_cast<std::size_t>(io.q_enc)] = io.q_enc_last;
-      if (io.pot) {
-        if (first) io.pot->reset(qj);
-        bus[static_cast<std::size_t>(io.q_pot)] = io.pot->read(qj, first ? 1e-3 : dt);
-      } else {
-        bus[static_cast<std::size_t>(io.q_pot)] = qj;
-      }
+      if (io.q_pot >= 0) bus[static_cast<std::size_t>(io.q_pot)] = potentiometer(io, qj, first, dt);
     }
   }
 
@@ -392,6 +417,13 @@ std::vector<unsigned long long> Simulation::controller_clamp_events() const {
   return r;
 }
 
+std::map<std::string, VelocityExcess> Simulation::velocity_limit_exceeded() const {
+  std::map<std::string, VelocityExcess> out;
+  for (std::size_t j = 0; j < impl_->velocity_excess.size(); ++j)
+    if (impl_->velocity_excess[j].samples > 0) out[impl_->plant.joint_names()[j]] = impl_->velocity_excess[j];
+  return out;
+}
+
 Log Simulation::run(const std::function<void(double)>& on_progress) {
   Impl& m = *impl_;
   if (!(m.spec.duration_s < kMaxDurationS))
@@ -479,6 +511,7 @@ Log Simulation::run(const std::function<void(double)>& on_progress) {
       if (!std::isfinite(m.q[j]) || std::abs(m.qd[j]) > m.spec.max_joint_rate_rad_s)
         throw DivergenceError(fmt::format("simulation diverged at t = {:.6g} s: joint '{}' runs away ({})", m.t_of(t),
                                           m.plant.joint_names()[static_cast<std::size_t>(j)], m.state_text()));
+    m.watch_velocity_limits();
   }
   if (on_progress) on_progress(1.0);
   return log;

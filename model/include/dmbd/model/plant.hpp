@@ -76,6 +76,10 @@ struct PlantOptions {
   double limit_stiffness_Nm_per_rad = 5e3;
   double limit_dissipation_s_per_rad = 1.0;
   bool joint_damping = true;               // URDF <dynamics damping>
+  // URDF <limit effort>: a joint without an actuator takes at most its effort (N m, or N
+  // for a prismatic joint) of the ideal torque set_joint_torques gives it (none given or
+  // 0: no limit); each clamped value is counted (effort_clamp_events).
+  bool effort_limits = true;
   Integration integration = Integration::Accurate;
   double accuracy = 1e-5;                  // Accurate: relative accuracy
   double step_s = 5e-4;                    // Fixed: the largest step
@@ -128,7 +132,9 @@ class Plant {
 
   // Inputs (held until changed).
   void set_currents(const Eigen::VectorXd& current_A);     // per actuator, clamped to ActuatorParams::applied_current_limit_A()
-  void set_joint_torques(const Eigen::VectorXd& tau);      // per joint, added to actuator torque
+  // Per joint, added to an actuator's torque; a joint without an actuator clamped to its
+  // URDF effort limit (PlantOptions::effort_limits).
+  void set_joint_torques(const Eigen::VectorXd& tau);
   void set_external_force(int link, const Eigen::Vector3d& p_L, const Eigen::Vector3d& f_W);
   void clear_external_forces();
 
@@ -165,6 +171,11 @@ class Plant {
   Eigen::Vector3d imu_angular_velocity_B() const;          // torso, in torso frame
   Eigen::Vector3d imu_specific_force_B() const;            // torso origin, in torso frame
   long long integrator_steps() const;                      // accepted steps since the last reset()
+  // Per joint: how many values set_joint_torques clamped to the effort limit since the
+  // last reset() (0 for a joint with an actuator or without a limit).
+  const std::vector<long long>& effort_clamp_events() const;
+  // Per joint: its URDF effort limit as applied (0: none, or the joint has an actuator).
+  const std::vector<double>& effort_limits() const;
 
  private:
   struct Impl;

@@ -166,6 +166,9 @@ struct Scenario {
   FrameSetup frames;              // `frames`
   std::vector<PlotSetup> plots;   // `plots`
   experiments::ExperimentSetup experiment;  // `experiment` (type "" without one)
+  // `log`: signals kept for the log alone (a controller output nothing else reads is
+  // otherwise refused as a likely misspelling).
+  std::vector<std::string> log_signals;
   // One line each: deprecated keys that were read (printed by dmbd simulate).
   std::vector<std::string> notes;
 };

@@ -42,6 +42,13 @@ struct SilFacts {
   std::vector<SilController> controllers;      // in list order
 };
 
+// A joint that ran faster than its URDF velocity limit (<limit velocity>) during a run.
+struct VelocityExcess {
+  double limit = 0;        // the URDF's limit, rad/s (m/s for a prismatic joint)
+  double peak = 0;         // the largest |rate| seen, rad/s (m/s)
+  long long samples = 0;   // plant advances that ended above the limit
+};
+
 // One run of one variant: its log and the facts metrics.json keeps of it (runs.RUN).
 struct VariantResult {
   std::string name;                            // the variant's (VariantSetup::name)
@@ -63,6 +70,11 @@ struct VariantResult {
   // osc_tick_us_max: one evaluation of the operational space controller; wbc_tick_us_*
   // the same of the balancing controller), µs.
   std::map<std::string, double> timing_us;
+  // Per joint (only those with any): ideal torques clamped to the URDF effort limit
+  // (model::Plant::effort_clamp_events).
+  std::map<std::string, long long> effort_clamp_events;
+  // Per joint (only those that did): the URDF velocity limit exceeded.
+  std::map<std::string, VelocityExcess> velocity_limit_exceeded;
 };
 
 }  // namespace dmbd::sim

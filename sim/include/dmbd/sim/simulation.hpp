@@ -41,6 +41,7 @@
 // system identification): it is then held from log tick to log tick.
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,6 +54,7 @@
 #include "dmbd/model/thermal.hpp"
 #include "dmbd/sim/controller.hpp"
 #include "dmbd/sim/log.hpp"
+#include "dmbd/sim/run_result.hpp"
 #include "dmbd/sim/signals.hpp"
 
 namespace dmbd::sim {
@@ -180,6 +182,9 @@ class Simulation {
   // Controller::clamp_events() of each controller, in spec order (0 for one that does
   // not count them: see counts_clamp_events()).
   std::vector<unsigned long long> controller_clamp_events() const;
+  // Per joint name: the joints whose rate went beyond their URDF velocity limit during
+  // run() (checked after every plant advance; joints without a limit are not watched).
+  std::map<std::string, VelocityExcess> velocity_limit_exceeded() const;
 
  private:
   struct Impl;
