@@ -95,6 +95,7 @@ int SimulateCommand::run() {
   if (jobs_ < 1 || jobs_ > 1024) throw InputError(fmt::format("--jobs {}: expected a number of processes from 1 to 1024", jobs_));
   if (!variant_.empty() && jobs_ != 1) throw InputError("--variant runs one variant in this process: --jobs does not apply");
   const scenario::Scenario s = scenario::load_scenario(scenario_);
+  for (const auto& line : scenario::scenario_notes(s)) std::cerr << "dmbd: " << line << "\n";
   if (!variant_.empty()) return run_part(s, o);
   const scenario::ScenarioRun r = [&] {
     ProgressBar bar;

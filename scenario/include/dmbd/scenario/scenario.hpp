@@ -196,6 +196,12 @@ struct VariantPlant {
 // file, and the model's ModelError for a URDF or actuator file it cannot read or a weld
 // it refuses.
 VariantPlant variant_plant(const Scenario& s, const VariantSetup& v);
+// What a user should read before the runs, one line each: the scenario's notes
+// (deprecated keys), each robot's URDF warnings (once per URDF) and, under `actuators:
+// all`, the moving joints the actuator file has no entry for (driven by ideal torques).
+// Throws what loading the URDF or the actuator file throws.
+std::vector<std::string> scenario_notes(const Scenario& s);
+
 // A joint's angle at t = 0: robot.initial, else robot.lock, else 0.
 double initial_angle(const RobotSetup& r, const std::string& joint);
 

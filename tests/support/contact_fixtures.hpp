@@ -120,7 +120,7 @@ inline RobotDescription single_body(const std::string& geometry, double m, const
 // cylinder collisions of radius 3 and 2.5 cm), foot (0.5 kg) whose collision is
 // `foot` (URDF geometry text) 3 cm below the ankle; hip, knee and ankle pitch about y.
 // Standing straight, the torso's origin is 0.81 m above the bottom of a 6 cm-high foot.
-inline RobotDescription hopper(const std::string& foot, const std::string& dir = ".") {
+inline std::string hopper_urdf(const std::string& foot) {
   auto joint = [](const char* name, const char* parent, const char* child, double z) {
     return std::string("<joint name=\"") + name + "\" type=\"revolute\"><parent link=\"" + parent + "\"/><child link=\"" + child +
            "\"/><origin xyz=\"0 0 " + num(z) + "\"/><axis xyz=\"0 1 0\"/><limit lower=\"-2\" upper=\"2\" effort=\"200\" velocity=\"20\"/></joint>\n";
@@ -139,7 +139,10 @@ inline RobotDescription hopper(const std::string& foot, const std::string& dir =
       joint("ankle", "shank", "foot", -0.3) +
       "<link name=\"foot\">" + inertial(0.5, box_inertia(0.5, {0.24, 0.12, 0.06}), {0, 0, -0.03}) +
       "<collision><origin xyz=\"0 0 -0.03\"/><geometry>" + foot + "</geometry></collision></link>\n</robot>\n";
-  return parse_urdf(xml, dir, dir + "/hopper.urdf");
+  return xml;
+}
+inline RobotDescription hopper(const std::string& foot, const std::string& dir = ".") {
+  return parse_urdf(hopper_urdf(foot), dir, dir + "/hopper.urdf");
 }
 
 }  // namespace dmbd::model::testing
