@@ -6,6 +6,7 @@
 //   mesh      the vertices of its convex hull (Geometry::hull_m, at most 64), point contacts;
 //   cylinder  its two rim circles (centre, axis, radius), elastic rings.
 // A mesh without hull points (its file did not load) has no element and no shape entry.
+#include "convex_hull.hpp"
 #include "dmbd/model/robot_description.hpp"
 
 #include <Eigen/Core>
@@ -15,8 +16,6 @@
 namespace dmbd::model::detail {
 
 class TreeKernel;
-
-constexpr std::size_t kMaxHullPoints = 64;
 
 struct ContactSphere {
   int link = -1, body = -1;
@@ -51,10 +50,5 @@ struct ContactElements {
 };
 
 ContactElements contact_elements(const RobotDescription& robot, const TreeKernel& kernel);
-
-// The contact points of a collision mesh: its convex hull's vertices, at most `max`
-// (farthest-point sampled). `hull_size` (optional) gets the hull's vertex count.
-std::vector<Eigen::Vector3d> mesh_contact_points(const TriangleMesh& mesh, std::size_t max,
-                                                 std::size_t* hull_size = nullptr);
 
 }  // namespace dmbd::model::detail

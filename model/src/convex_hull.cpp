@@ -75,4 +75,10 @@ std::vector<Eigen::Vector3d> farthest_points(const std::vector<Eigen::Vector3d>&
   return out;
 }
 
+std::vector<Eigen::Vector3d> mesh_contact_points(const TriangleMesh& mesh, std::size_t max, std::size_t* hull_size) {
+  const std::vector<Eigen::Vector3d> hull = convex_hull_vertices(mesh.vertices);
+  if (hull_size) *hull_size = hull.size();
+  return farthest_points(hull, max);
+}
+
 }  // namespace dmbd::model::detail

@@ -25,7 +25,7 @@
 #include "dmbd/base/number_text.hpp"
 #include "dmbd/base/text.hpp"
 #include "dmbd/model/error.hpp"
-#include "contact_elements.hpp"
+#include "convex_hull.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "mesh_loader.hpp"
 #include "urdf_repairs.hpp"
