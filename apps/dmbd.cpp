@@ -17,27 +17,13 @@
 #include "draw_cmd.hpp"
 #include "model_cmd.hpp"
 #include "report_cmd.hpp"
+#include "dmbd/base/strings.hpp"
 #include "simulate_cmd.hpp"
 #include "sweep_cmd.hpp"
 #include "tune_cmd.hpp"
 
 namespace {
 
-// Levenshtein distance, to suggest the closest command name.
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> d(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) d[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t prev = d[0];
-    d[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t cur = d[j];
-      d[j] = std::min({d[j] + 1, d[j - 1] + 1, prev + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      prev = cur;
-    }
-  }
-  return d[b.size()];
-}
 
 // "dmbd analize": CLI11 would say only that a subcommand is required. One line naming
 // the word, the commands and the closest one; empty when the word is a command.
@@ -49,7 +35,7 @@ std::string unknown_command(CLI::App& app, int argc, char** argv) {
   for (const CLI::App* c : app.get_subcommands([](CLI::App*) { return true; })) {
     if (c->get_name() == word) return "";
     names += (names.empty() ? "" : ", ") + c->get_name();
-    const std::size_t d = edit_distance(word, c->get_name());
+    const std::size_t d = dmbd::edit_distance(word, c->get_name());
     if (d < best) best = d, closest = c->get_name();
   }
   return "dmbd: error: unknown command '" + word + "' (expected one of: " + names + ")" +

@@ -23,17 +23,6 @@ namespace {
 
 namespace m = dmbd::model;
 
-const char* type_name(m::JointType t) {
-  switch (t) {
-    case m::JointType::Fixed: return "fixed";
-    case m::JointType::Revolute: return "revolute";
-    case m::JointType::Continuous: return "continuous";
-    case m::JointType::Prismatic: return "prismatic";
-    case m::JointType::Floating: return "floating";
-    case m::JointType::Planar: return "planar";
-  }
-  return "?";
-}
 
 bool has_axis(m::JointType t) { return t != m::JointType::Fixed && t != m::JointType::Floating; }
 
@@ -43,7 +32,7 @@ std::string num(double v) { return fmt::format("{:.6g}", v == 0.0 ? 0.0 : v); }
 nlohmann::json info_json(const m::RobotDescription& r, const m::ModelSummary& s) {
   nlohmann::json joints = nlohmann::json::array();
   for (const m::Joint& j : r.joints) {
-    nlohmann::json o{{"name", j.name},   {"type", type_name(j.type)}, {"parent", j.parent}, {"child", j.child},
+    nlohmann::json o{{"name", j.name},   {"type", m::joint_type_name(j.type)}, {"parent", j.parent}, {"child", j.child},
                      {"lower", nullptr}, {"upper", nullptr},          {"axis", nullptr},    {"effort", nullptr},
                      {"velocity", nullptr}, {"damping", j.damping},   {"friction", j.friction}};
     if (j.has_limits) {
@@ -101,7 +90,7 @@ std::string info_text(const m::RobotDescription& r, const m::ModelSummary& s) {
     for (const m::Joint& j : r.joints) {
       const bool lin = j.type == m::JointType::Prismatic;
       const std::string u = lin ? " m" : " rad";
-      rows.push_back({j.name, type_name(j.type), j.parent + " -> " + j.child, j.has_limits ? num(j.lower) + u : "-",
+      rows.push_back({j.name, m::joint_type_name(j.type), j.parent + " -> " + j.child, j.has_limits ? num(j.lower) + u : "-",
                       j.has_limits ? num(j.upper) + u : "-", j.effort > 0 ? num(j.effort) + (lin ? " N" : " N m") : "-",
                       j.velocity > 0 ? num(j.velocity) + (lin ? " m/s" : " rad/s") : "-",
                       has_axis(j.type) ? num(j.axis.x()) + " " + num(j.axis.y()) + " " + num(j.axis.z()) : "-"});

@@ -2,39 +2,30 @@
 // the common options.
 #include "dmbd/control/registry.hpp"
 
-#include <map>
 
 #include <fmt/format.h>
 
 #include "builtin_types.hpp"
+#include "dmbd/base/registry.hpp"
 #include "dmbd/sim/event_grid.hpp"
 
 namespace dmbd::control {
 
 namespace {
 
-std::map<std::string, std::shared_ptr<const BusControllerType>>& types() {
-  static std::map<std::string, std::shared_ptr<const BusControllerType>> t = {
+Registry<BusControllerType>& types() {
+  static Registry<BusControllerType> t({
       {"osc", detail::osc_type()},          // operational space control (osc_controller.hpp)
       {"balance", detail::balance_type()},  // balancing by stepping (balance_controller.hpp)
-  };
+  });
   return t;
 }
 
 }  // namespace
 
-void register_bus_controller(const std::string& type, std::shared_ptr<const BusControllerType> t) { types()[type] = std::move(t); }
-
-const BusControllerType* find_bus_controller(const std::string& type) {
-  const auto it = types().find(type);
-  return it == types().end() ? nullptr : it->second.get();
-}
-
-std::vector<std::string> bus_controller_types() {
-  std::vector<std::string> names;
-  for (const auto& [name, t] : types()) names.push_back(name);
-  return names;
-}
+void register_bus_controller(const std::string& type, std::shared_ptr<const BusControllerType> t) { types().add(type, std::move(t)); }
+const BusControllerType* find_bus_controller(const std::string& type) { return types().find(type); }
+std::vector<std::string> bus_controller_types() { return types().names(); }
 
 std::vector<sim::Overlay> BusControllerType::overlays(const BusControllerOptions&) const { return {}; }
 

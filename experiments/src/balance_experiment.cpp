@@ -425,20 +425,13 @@ ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResu
   return res;
 }
 
-class Balance : public Experiment {
- public:
-  std::map<std::string, KeyKind> keys() const override {
-    return {{"leg", KeyKind::Text}, {"start_s", KeyKind::Number}, {"fall_height_m", KeyKind::Number}, {"fall_tilt_rad", KeyKind::Number},
-            {"winding_joints", KeyKind::Joints}};
-  }
-  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<VariantResult>& runs,
-                            const std::vector<VariantFacts>& variants) const override {
-    return balance(e, runs, variants);
-  }
-};
-
 }  // namespace
 
-std::shared_ptr<const Experiment> balance_experiment() { return std::make_shared<Balance>(); }
+std::shared_ptr<const Experiment> balance_experiment() {
+  return std::make_shared<detail::FunctionExperiment>(
+      std::map<std::string, KeyKind>{{"leg", KeyKind::Text}, {"start_s", KeyKind::Number}, {"fall_height_m", KeyKind::Number}, {"fall_tilt_rad", KeyKind::Number},
+            {"winding_joints", KeyKind::Joints}}, false,
+      [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) { return balance(e, runs, variants); });
+}
 
 }  // namespace dmbd::experiments

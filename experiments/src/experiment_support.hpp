@@ -44,6 +44,26 @@ inline nlohmann::json& nest(nlohmann::json& root, const VariantResult& r) {
   return (*j)[r.axes.back().second];
 }
 
+// An experiment that is one evaluation function and the keys it reads (the built-in ones
+// that need nothing else of the interface).
+class FunctionExperiment : public Experiment {
+ public:
+  using Evaluate = ExperimentResult (*)(const ExperimentSetup&, const std::vector<VariantResult>&, const std::vector<VariantFacts>&);
+  FunctionExperiment(std::map<std::string, KeyKind> keys, bool needs_joint, Evaluate evaluate)
+      : keys_(std::move(keys)), needs_joint_(needs_joint), evaluate_(evaluate) {}
+  std::map<std::string, KeyKind> keys() const override { return keys_; }
+  bool needs_joint() const override { return needs_joint_; }
+  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<VariantResult>& runs,
+                            const std::vector<VariantFacts>& variants) const override {
+    return evaluate_(e, runs, variants);
+  }
+
+ private:
+  std::map<std::string, KeyKind> keys_;
+  bool needs_joint_;
+  Evaluate evaluate_;
+};
+
 // The next of a figure's stacked axes sharing one x axis, labelled y_label; only the
 // last one shows the x labels.
 inline plot::Axes& stacked_axes(plot::Figure& fig, const std::string& y_label, bool last, const std::string& x_label = "Time (s)") {

@@ -70,18 +70,12 @@ ExperimentResult force_tracking(const ExperimentSetup& e, const std::vector<sim:
   return res;
 }
 
-class ForceTracking : public Experiment {
- public:
-  std::map<std::string, KeyKind> keys() const override { return {{"reference", KeyKind::Text}, {"output", KeyKind::Text}, {"start_s", KeyKind::Number}, {"plot_window_s", KeyKind::Number}}; }
-  bool needs_joint() const override { return true; }
-  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<sim::VariantResult>& runs,
-                            const std::vector<VariantFacts>&) const override {
-    return force_tracking(e, runs);
-  }
-};
-
 }  // namespace
 
-std::shared_ptr<const Experiment> force_tracking_experiment() { return std::make_shared<ForceTracking>(); }
+std::shared_ptr<const Experiment> force_tracking_experiment() {
+  return std::make_shared<detail::FunctionExperiment>(
+      std::map<std::string, KeyKind>{{"reference", KeyKind::Text}, {"output", KeyKind::Text}, {"start_s", KeyKind::Number}, {"plot_window_s", KeyKind::Number}}, true,
+      [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>&) { return force_tracking(e, runs); });
+}
 
 }  // namespace dmbd::experiments

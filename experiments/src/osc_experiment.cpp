@@ -191,17 +191,12 @@ ExperimentResult osc_table(const ExperimentSetup& e, const std::vector<VariantRe
   return res;
 }
 
-class OscTable : public Experiment {
- public:
-  std::map<std::string, KeyKind> keys() const override { return {{"leg", KeyKind::Text}, {"window_start_s", KeyKind::Number}}; }
-  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<VariantResult>& runs,
-                            const std::vector<VariantFacts>& variants) const override {
-    return osc_table(e, runs, variants);
-  }
-};
-
 }  // namespace
 
-std::shared_ptr<const Experiment> osc_table_experiment() { return std::make_shared<OscTable>(); }
+std::shared_ptr<const Experiment> osc_table_experiment() {
+  return std::make_shared<detail::FunctionExperiment>(
+      std::map<std::string, KeyKind>{{"leg", KeyKind::Text}, {"window_start_s", KeyKind::Number}}, false,
+      [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) { return osc_table(e, runs, variants); });
+}
 
 }  // namespace dmbd::experiments

@@ -1,7 +1,7 @@
 // The experiment registry (registry.hpp): the built-in experiments, one line each.
 #include "dmbd/experiments/registry.hpp"
 
-#include <map>
+#include "dmbd/base/registry.hpp"
 
 namespace dmbd::experiments {
 
@@ -16,8 +16,8 @@ std::shared_ptr<const Experiment> balance_experiment();
 
 namespace {
 
-std::map<std::string, std::shared_ptr<const Experiment>>& types() {
-  static std::map<std::string, std::shared_ptr<const Experiment>> t = {
+Registry<Experiment>& types() {
+  static Registry<Experiment> t({
       {"step_response", step_response_experiment()},    // paper Fig. 5b,c
       {"force_tracking", force_tracking_experiment()},  // force loops tracking a reference
       {"thermal", thermal_experiment()},                // winding temperature, cooling on and off
@@ -25,23 +25,14 @@ std::map<std::string, std::shared_ptr<const Experiment>>& types() {
       {"sysid_rfsea", sysid_rfsea_experiment()},        // paper Fig. 5a
       {"osc_table", osc_table_experiment()},            // paper Fig. 6
       {"balance", balance_experiment()},                // paper Fig. 7
-  };
+  });
   return t;
 }
 
 }  // namespace
 
-void register_experiment(const std::string& type, std::shared_ptr<const Experiment> e) { types()[type] = std::move(e); }
-
-const Experiment* find_experiment(const std::string& type) {
-  const auto it = types().find(type);
-  return it == types().end() ? nullptr : it->second.get();
-}
-
-std::vector<std::string> experiment_types() {
-  std::vector<std::string> names;
-  for (const auto& [name, e] : types()) names.push_back(name);
-  return names;
-}
+void register_experiment(const std::string& type, std::shared_ptr<const Experiment> e) { types().add(type, std::move(e)); }
+const Experiment* find_experiment(const std::string& type) { return types().find(type); }
+std::vector<std::string> experiment_types() { return types().names(); }
 
 }  // namespace dmbd::experiments

@@ -55,17 +55,12 @@ ExperimentResult standing(const ExperimentSetup& e, const std::vector<sim::Varia
   return res;
 }
 
-class Standing : public Experiment {
- public:
-  std::map<std::string, KeyKind> keys() const override { return {}; }
-  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<sim::VariantResult>& runs,
-                            const std::vector<VariantFacts>&) const override {
-    return standing(e, runs);
-  }
-};
-
 }  // namespace
 
-std::shared_ptr<const Experiment> standing_experiment() { return std::make_shared<Standing>(); }
+std::shared_ptr<const Experiment> standing_experiment() {
+  return std::make_shared<detail::FunctionExperiment>(
+      std::map<std::string, KeyKind>{}, false,
+      [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>&) { return standing(e, runs); });
+}
 
 }  // namespace dmbd::experiments

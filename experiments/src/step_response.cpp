@@ -77,18 +77,12 @@ ExperimentResult step_response(const ExperimentSetup& e, const std::vector<sim::
   return res;
 }
 
-class StepResponse : public Experiment {
- public:
-  std::map<std::string, KeyKind> keys() const override { return {{"reference", KeyKind::Text}, {"output", KeyKind::Text}, {"step_start_s", KeyKind::Number}, {"step_end_s", KeyKind::Number}, {"sine_start_s", KeyKind::Number}, {"sine_end_s", KeyKind::Number}}; }
-  bool needs_joint() const override { return true; }
-  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<sim::VariantResult>& runs,
-                            const std::vector<VariantFacts>&) const override {
-    return step_response(e, runs);
-  }
-};
-
 }  // namespace
 
-std::shared_ptr<const Experiment> step_response_experiment() { return std::make_shared<StepResponse>(); }
+std::shared_ptr<const Experiment> step_response_experiment() {
+  return std::make_shared<detail::FunctionExperiment>(
+      std::map<std::string, KeyKind>{{"reference", KeyKind::Text}, {"output", KeyKind::Text}, {"step_start_s", KeyKind::Number}, {"step_end_s", KeyKind::Number}, {"sine_start_s", KeyKind::Number}, {"sine_end_s", KeyKind::Number}}, true,
+      [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>&) { return step_response(e, runs); });
+}
 
 }  // namespace dmbd::experiments

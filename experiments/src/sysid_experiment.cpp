@@ -144,20 +144,13 @@ ExperimentResult sysid_rfsea(const ExperimentSetup& e, const std::vector<Variant
 
 namespace {
 
-class SysidRfsea : public Experiment {
- public:
-  std::map<std::string, KeyKind> keys() const override {
-    return {{"lead_in_s", KeyKind::Number},    {"locked_f0_hz", KeyKind::Number}, {"locked_f1_hz", KeyKind::Number},
-            {"free_f0_hz", KeyKind::Number},   {"free_f1_hz", KeyKind::Number},   {"frequencies", KeyKind::Number}};
-  }
-  bool needs_joint() const override { return true; }
-  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>&) const override {
-    return sysid_rfsea(e, runs);
-  }
-};
-
 }  // namespace
 
-std::shared_ptr<const Experiment> sysid_rfsea_experiment() { return std::make_shared<SysidRfsea>(); }
+std::shared_ptr<const Experiment> sysid_rfsea_experiment() {
+  return std::make_shared<detail::FunctionExperiment>(
+      std::map<std::string, KeyKind>{{"lead_in_s", KeyKind::Number},    {"locked_f0_hz", KeyKind::Number}, {"locked_f1_hz", KeyKind::Number},
+            {"free_f0_hz", KeyKind::Number},   {"free_f1_hz", KeyKind::Number},   {"frequencies", KeyKind::Number}}, true,
+      [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>&) { return sysid_rfsea(e, runs); });
+}
 
 }  // namespace dmbd::experiments

@@ -52,18 +52,12 @@ ExperimentResult thermal(const ExperimentSetup& e, const std::vector<sim::Varian
   return res;
 }
 
-class Thermal : public Experiment {
- public:
-  std::map<std::string, KeyKind> keys() const override { return {}; }
-  bool needs_joint() const override { return true; }
-  ExperimentResult evaluate(const ExperimentSetup& e, const std::vector<sim::VariantResult>& runs,
-                            const std::vector<VariantFacts>&) const override {
-    return thermal(e, runs);
-  }
-};
-
 }  // namespace
 
-std::shared_ptr<const Experiment> thermal_experiment() { return std::make_shared<Thermal>(); }
+std::shared_ptr<const Experiment> thermal_experiment() {
+  return std::make_shared<detail::FunctionExperiment>(
+      std::map<std::string, KeyKind>{}, true,
+      [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>&) { return thermal(e, runs); });
+}
 
 }  // namespace dmbd::experiments

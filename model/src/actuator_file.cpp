@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "dmbd/base/strings.hpp"
 #include "dmbd/base/file.hpp"
 #include "dmbd/base/number_text.hpp"
 #include "dmbd/base/yaml_reader.hpp"
@@ -19,11 +20,6 @@ namespace dmbd::model {
 
 namespace {
 
-std::string join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
 
 enum class Check { Any, Positive, NonNegative, Fraction, Sign, Whole };
 
@@ -309,17 +305,6 @@ class Reader {
   yaml::Reader rd_;
 };
 
-const char* joint_type_name(JointType t) {
-  switch (t) {
-    case JointType::Fixed: return "fixed";
-    case JointType::Revolute: return "revolute";
-    case JointType::Continuous: return "continuous";
-    case JointType::Prismatic: return "prismatic";
-    case JointType::Floating: return "floating";
-    case JointType::Planar: return "planar";
-  }
-  return "?";
-}
 
 }  // namespace
 

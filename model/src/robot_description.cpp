@@ -27,4 +27,16 @@ double RobotDescription::total_mass_kg() const {
   return m;
 }
 
+const char* joint_type_name(JointType t) {
+  switch (t) {
+    case JointType::Fixed: return "fixed";
+    case JointType::Revolute: return "revolute";
+    case JointType::Continuous: return "continuous";
+    case JointType::Prismatic: return "prismatic";
+    case JointType::Floating: return "floating";
+    case JointType::Planar: return "planar";
+  }
+  return "?";
+}
+
 }  // namespace dmbd::model

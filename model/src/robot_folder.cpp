@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "dmbd/base/file.hpp"
+#include "dmbd/base/strings.hpp"
 #include "dmbd/base/yaml_fields.hpp"
 #include "dmbd/base/yaml_reader.hpp"
 #include "dmbd/model/error.hpp"
@@ -17,11 +18,6 @@ namespace {
 
 std::string normal(const fs::path& p) { return fs::absolute(p).lexically_normal().string(); }
 
-std::string join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
 
 // A file the folder names: it must exist.
 std::string folder_file(const yaml::Fields& f, const YAML::Node& n, const std::string& dir, const std::string& what) {

@@ -10,22 +10,6 @@
 
 namespace dmbd::model::detail {
 
-namespace {
-
-const char* type_word(JointType t) {
-  switch (t) {
-    case JointType::Fixed: return "fixed";
-    case JointType::Revolute: return "revolute";
-    case JointType::Continuous: return "continuous";
-    case JointType::Prismatic: return "prismatic";
-    case JointType::Floating: return "floating";
-    case JointType::Planar: return "planar";
-  }
-  return "?";
-}
-
-}  // namespace
-
 void balance_link_inertia(Link& link, const std::string& where, RobotDescription& robot) {
   const Eigen::Vector3d before = principal_moments(link.inertia_kgm2);
   link.inertia_kgm2 = balance_inertia(link.inertia_kgm2);
@@ -50,7 +34,7 @@ void check_massless_moving(RobotDescription& robot, const std::function<std::str
   for (const Joint& j : robot.joints) {
     const int c = robot.link_index(j.child);
     if (j.type == JointType::Fixed || c < 0 || sub[static_cast<std::size_t>(c)] > 0) continue;
-    const std::string what = std::string("moved by ") + type_word(j.type) + " joint '" + j.name +
+    const std::string what = std::string("moved by ") + joint_type_name(j.type) + " joint '" + j.name +
                              "' but it and the links below it have no mass";
     if (strict)
       throw ModelError(where(j.name) + "link '" + j.child + "': " + what +

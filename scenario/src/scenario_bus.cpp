@@ -4,6 +4,7 @@
 // variant), else the robot folder's controllers.TYPE, else the type's own.
 #include <fmt/format.h>
 
+#include "dmbd/base/strings.hpp"
 #include "engine_names.hpp"
 #include "scenario_reader.hpp"
 
@@ -12,27 +13,17 @@
 
 namespace dmbd::scenario::detail {
 
-namespace {
-
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
-}  // namespace
-
 void Reader::bus_controllers(const YAML::Node& list, VariantSetup& v) const {
   if (!list.IsSequence()) fail(list, "bus_controllers: expected a list of {type: ..., ...}");
   each(list, [&](const YAML::Node& e) {
-    if (!e.IsMap() || !e["type"]) fail(e, "bus_controllers: each entry needs a 'type' (one of: " + joined(control::bus_controller_types()) + ")");
+    if (!e.IsMap() || !e["type"]) fail(e, "bus_controllers: each entry needs a 'type' (one of: " + join(control::bus_controller_types()) + ")");
     bus_controller(e, text(e["type"], "bus_controllers.type"), v);
   });
 }
 
 void Reader::bus_controller(const YAML::Node& n, const std::string& type, VariantSetup& v) const {
   const control::BusControllerType* t = control::find_bus_controller(type);
-  if (!t) fail(n["type"] ? n["type"] : n, "bus_controllers: unknown type '" + type + "' (one of: " + joined(control::bus_controller_types()) + ")");
+  if (!t) fail(n["type"] ? n["type"] : n, "bus_controllers: unknown type '" + type + "' (one of: " + join(control::bus_controller_types()) + ")");
   const std::string name = n.IsMap() && n["name"] ? text(n["name"], type + ".name") : type;
   auto same = std::find_if(v.bus_controllers.begin(), v.bus_controllers.end(), [&](const auto& o) { return o->name == name; });
   std::shared_ptr<const control::BusControllerOptions> base;

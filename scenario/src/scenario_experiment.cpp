@@ -1,5 +1,6 @@
 // Reading a scenario's experiment map (docs/scenario-format.md, "experiment"): its type
 // found in the registry (experiments/registry.hpp) and the keys that type reads.
+#include "dmbd/base/strings.hpp"
 #include "engine_names.hpp"
 #include "scenario_reader.hpp"
 
@@ -7,23 +8,13 @@
 
 namespace dmbd::scenario::detail {
 
-namespace {
-
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
-}  // namespace
-
 void Reader::experiment(const YAML::Node& e, experiments::ExperimentSetup& x) const {
   using experiments::KeyKind;
   if (!e.IsMap() || !e["type"]) fail(e, "experiment: expected a map with 'type'");
   x.type = text(e["type"], "experiment.type");
   x.where["type"] = at(e["type"]);
   const experiments::Experiment* exp = experiments::find_experiment(x.type);
-  if (!exp) fail(e["type"], "experiment.type: expected one of " + joined(experiments::experiment_types()) + ", got '" + x.type + "'");
+  if (!exp) fail(e["type"], "experiment.type: expected one of " + join(experiments::experiment_types()) + ", got '" + x.type + "'");
   const auto allowed = exp->keys();
   for (const auto& kv : e) {
     rd.guard([&] {

@@ -3,22 +3,13 @@
 
 #include <fmt/format.h>
 
+#include "dmbd/base/strings.hpp"
 #include "dmbd/blocks/expression_numbers.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/scenario/scenario.hpp"
 
 namespace dmbd::scenario {
-
-namespace {
-
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
-}  // namespace
 
 std::vector<std::string> scenario_notes(const Scenario& s) {
   std::vector<std::string> out;
@@ -33,7 +24,7 @@ std::vector<std::string> scenario_notes(const Scenario& s) {
     const auto ideal = model::joints_without_actuator(model::load_actuators(r.actuator_file, blocks::expression_numbers()), robot);
     if (!ideal.empty())
       out.push_back(fmt::format("note: {}: {} joint(s) without an entry in {}, driven by ideal joint torques: {}", s.file, ideal.size(),
-                                r.actuator_file, joined(ideal)));
+                                r.actuator_file, join(ideal)));
   }
   return out;
 }

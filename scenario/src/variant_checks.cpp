@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/base/strings.hpp"
 #include "dmbd/experiments/registry.hpp"
 #include "dmbd/scenario/evaluate.hpp"
 
@@ -19,29 +20,7 @@ std::string where_of(const Scenario& s, const RobotSetup& r, const std::string& 
   return it == r.where.end() ? s.file : it->second;
 }
 
-// Levenshtein distance (the few hundred signal names of a robot: no need for better).
-std::size_t distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
 
-std::string closest(const std::string& name, const std::set<std::string>& among) {
-  std::string best;
-  std::size_t d = std::string::npos;
-  for (const auto& c : among)
-    if (const std::size_t x = distance(name, c); x < d) d = x, best = c;
-  return best;
-}
 
 // The plant's inputs: every joint's torque, every actuator's current.
 std::set<std::string> plant_inputs(const model::Plant& plant) {
@@ -110,13 +89,12 @@ void check_outputs_reach(const Scenario& s, const VariantSetup& v, const Simulat
       const std::string at = k < c.output_where.size() && !c.output_where[k].empty() ? c.output_where[k] : c.where;
       throw InputError(fmt::format("{}: controller '{}': output '{}' is bound to '{}', which is no plant input and nothing reads (a controller, "
                                    "a plot, the experiment, an overlay, the scenario's log: list); the closest plant input is '{}'",
-                                   at, c.name, c.outputs[k].first, sig, closest(sig, inputs)));
+                                   at, c.name, c.outputs[k].first, sig, closest_name(sig, std::vector<std::string>(inputs.begin(), inputs.end()))));
     }
   for (const auto& b : bus)
     for (const auto& jc : b.controller->joint_commands())
       if (std::none_of(jc.signals.begin(), jc.signals.end(), [&](const std::string& x) { return inputs.count(x) || read.count(x); })) {
-        std::string list;
-        for (const auto& x : jc.signals) list += (list.empty() ? "" : ", ") + x;
+        const std::string list = join(jc.signals);
         throw InputError(fmt::format("{}: {}: the command for joint '{}' reaches nothing: no controller reads {} (the joint's own loop, "
                                      "e.g. a force or position controller among `controllers`)",
                                      b.options->where, b.options->name, jc.joint, list));

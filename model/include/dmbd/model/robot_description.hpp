@@ -163,6 +163,9 @@ void add_payload(RobotDescription& robot, const std::string& link, double mass_k
 RobotDescription freeze_joints(const RobotDescription& robot,
                                const std::vector<std::pair<std::string, double>>& positions);
 
+// The type as URDF writes it: "fixed", "revolute", "continuous", "prismatic", "floating", "planar".
+const char* joint_type_name(JointType type);
+
 // Summary used by `dmbd model info`.
 struct ModelSummary {
   std::string name;
