@@ -153,6 +153,7 @@ TEST_F(LegRig, TheSoleTouchesDownAfterTheFreeFallTime) {
 // passive: only gravity and the ground act along it), and nothing else touches.
 TEST_F(LegRig, TheFootCarriesTheMovingMassOnTheRail) {
   const dmbd::model::RobotDescription robot = urdf();
+  ASSERT_EQ(robot.links.front().name, "stand");
   double moving = 0;
   for (std::size_t l = 1; l < robot.links.size(); ++l) moving += robot.links[l].mass_kg;  // every link but the stand
   const double weight = moving * 9.81;
