@@ -94,12 +94,19 @@ struct Simulation::Impl {
   Impl(model::Plant& p, SimulationSpec s) : plant(p), spec(std::move(s)), rng(spec.seed) {
     nj = plant.num_joints();
     na = plant.num_actuators();
+    // A prismatic joint's coordinate is a length: m, m/s and a force, N.
+    std::vector<bool> sliding;
+    for (const auto& J : plant.joint_names()) {
+      const int d = plant.description().joint_index(J);
+      sliding.push_back(d >= 0 && plant.description().joints[static_cast<std::size_t>(d)].type == model::JointType::Prismatic);
+    }
     for (int j = 0; j < nj; ++j) {
       const std::string& J = plant.joint_names()[static_cast<std::size_t>(j)];
-      sig_q.push_back(add(J + ".q", "rad"));
-      sig_qd.push_back(add(J + ".qd", "rad/s"));
+      sig_q.push_back(add(J + ".q", sliding[static_cast<std::size_t>(j)] ? "m" : "rad"));
+      sig_qd.push_back(add(J + ".qd", sliding[static_cast<std::size_t>(j)] ? "m/s" : "rad/s"));
     }
-    for (int j = 0; j < nj; ++j) sig_torque.push_back(add(plant.joint_names()[static_cast<std::size_t>(j)] + ".torque", "N m"));
+    for (int j = 0; j < nj; ++j)
+      sig_torque.push_back(add(plant.joint_names()[static_cast<std::size_t>(j)] + ".torque", sliding[static_cast<std::size_t>(j)] ? "N" : "N m"));
     if (plant.options().base == model::BaseMode::Floating) {
       sig_base = add("base.x", "m");
       for (const char* n : {"base.y", "base.z"}) add(n, "m");

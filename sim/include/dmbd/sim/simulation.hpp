@@ -16,14 +16,18 @@
 // ticks, so that neither a controller's inputs nor the noise sequence depend on the
 // log rate, and the log holds the last sample; with no controller they are sampled at
 // log ticks):
-//   J.q, J.qd                true joint angle (rad) and rate (rad/s)
-//   J.current, J.torque      commands (A for an actuated joint; N m for any joint)
+//   J.q, J.qd                true joint angle (rad) and rate (rad/s); m, m/s for a prismatic joint
+//   J.current, J.torque      commands (A for an actuated joint; N m for any joint, N for a
+//                            prismatic one, clamped to the URDF effort limit without an actuator)
 //   and for a joint with an actuator:
-//   J.q_enc                  joint angle from the motor and elastomer encoders through
-//                            the linkage (the firmware's lookup): x(q) = x(0) + theta/N_m - x_s
-//   J.q_pot                  joint angle from the potentiometer (noise, ADC, 1st-order filter)
-//   J.force                  sensed actuator force K_s x_s (elastomer encoder), N
-//   J.motor_angle, J.spring_deflection   encoder readings (rad, m)
+//   J.q_enc                  joint angle from the motor and spring encoders through
+//                            the transmission (the firmware's lookup): x(q) = x(0) + theta/N_m - x_s
+//   J.q_pot                  joint angle from the potentiometer (noise, ADC, 1st-order filter),
+//                            when the actuator has one
+//   J.force                  sensed actuator force K_s x_s (spring encoder), N (N m for a rotary
+//                            kind; a rigid geared motor's: its current-based torque estimate)
+//   J.motor_angle, J.spring_deflection   encoder readings (rad; m, or rad for a rotary SEA;
+//                            no spring signal for a rigid geared motor)
 // and for a floating base (true values, after every plant advance):
 //   base.x, base.y, base.z   torso origin in world (m)
 //   base.roll, base.pitch, base.yaw   R = Rz(yaw) Ry(pitch) Rx(roll) (rad)
@@ -35,8 +39,8 @@
 // J.i2t (A^2 s, the integral of the applied current squared since t = 0: exact, the
 // current is held between events), and the thermal nodes J.T_winding, J.T_housing
 // (degC; _cooled and _uncooled with cooling Both); and with contact, the force on the
-// robot at each collision sphere, contact.K.fx/fy/fz (N, world; K counts the
-// description's collision spheres, links in order). A
+// robot at each colliding collision shape, contact.K.fx/fy/fz (N, world; K counts the
+// shapes that can collide, links in order and each link's in URDF order). A
 // reference may also drive a command directly ("l_knee.current": a current chirp for
 // system identification): it is then held from log tick to log tick.
 #include <cstdint>
