@@ -53,8 +53,8 @@ bool moving(const model::Joint& j) { return j.type == model::JointType::Revolute
 
 // Gains per joint from I, the inertia about its axis of the links it moves
 // (model::subtree_axis_inertia, zero pose): Kp = I w^2, Kd = 2 zeta I w, w = 2 pi 8 Hz,
-// zeta = 1 (the 58 g lidar spindle to the upper body's 10 kg m^2), capped at
-// Kp <= 3000 N m/rad and Kd <= 50 N m s/rad. Measured without the caps: the back and hip
+// zeta = 1 (I from the lidar spindle's 4e-4 kg m^2 to the upper body's 14-22 kg m^2
+// about the back joints), capped at Kp <= 3000 N m/rad and Kd <= 50 N m s/rad. Measured without the caps: the back and hip
 // joints, whose subtrees are heavy but which in stance swing the light pelvis held only
 // by the support's springs, chatter at 250 Hz (a quarter of the 1 kHz control rate) with
 // the summed contact force 32 N rms and its mean 0.9 % above the weight; Kd <= 100 still
