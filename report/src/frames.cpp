@@ -1,9 +1,13 @@
 // The frame variant drawn from its log: the joints' logged angles through the robot's
 // forward kinematics, the logged base pose for a floating robot, the logged contact
-// forces as arrows, the centre of mass from the description's masses, the paths the
-// variant's bus controllers and experiment declare (when logged), and a table under a
-// fixed base.
+// forces as arrows (every colliding shape's, where contact_sites.hpp puts them), the
+// centre of mass from the description's masses, the paths the variant's bus
+// controllers and experiment declare (when logged), and a table under a fixed base.
+// Links whose visual meshes are missing are drawn from their collision shapes
+// (robot_scene.hpp), named in one warning.
 #include "frames.hpp"
+
+#include "contact_sites.hpp"
 
 #include <algorithm>
 #include <array>
@@ -14,6 +18,7 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/file.hpp"
@@ -36,13 +41,13 @@ struct PoseColumns {
   std::vector<int> joint;  // per robot.joints: the column of "<name>.q", or -1 (no coordinate)
   int base = -1;           // floating: "base.x", then y, z, roll, pitch, yaw
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  // fixed base
-  struct Sphere {
-    int link;
-    Eigen::Vector3d center_L;
-    double radius;
-    int force;  // "contact.K.fx" (then fy, fz), or -1
+  // Every colliding shape (contact_sites.hpp) with the column of its logged force
+  // "contact.K.fx" (then fy, fz); none when the log has no contact forces.
+  struct Contact {
+    ContactSite site;
+    int force;
   };
-  std::vector<Sphere> spheres;
+  std::vector<Contact> contacts;
   // The paths the variant's bus controllers and experiment declare (sim::Overlay), each
   // with the columns of its three signals; drawn only when all three were logged.
   struct Path {
@@ -54,6 +59,23 @@ struct PoseColumns {
 
 bool one_dof(model::JointType t) {
   return t == model::JointType::Revolute || t == model::JointType::Continuous || t == model::JointType::Prismatic;
+}
+
+// The contact forces' columns, one per colliding shape in the plant's order. A log whose
+// contact columns do not count the robot's colliding shapes was written for another
+// robot: an error, as a missing joint angle is.
+void add_contacts(const model::RobotDescription& robot, const sim::VariantResult& r, const std::string& file,
+                  PoseColumns& c) {
+  if (r.log.find("contact.0.fx") < 0) return;
+  const std::vector<ContactSite> sites = contact_sites(robot);
+  std::size_t logged = 0;
+  while (r.log.find(fmt::format("contact.{}.fx", logged)) >= 0) ++logged;
+  if (logged != sites.size())
+    throw InputError(fmt::format("{}: variant '{}' logged the contact forces of {} shapes, its robot has {} colliding "
+                                 "shapes: its frames cannot be drawn",
+                                 file, r.name, logged, sites.size()));
+  for (std::size_t k = 0; k < sites.size(); ++k)
+    c.contacts.push_back({sites[k], r.log.find(fmt::format("contact.{}.fx", k))});
 }
 
 PoseColumns pose_columns(const model::RobotDescription& robot, const sim::VariantResult& r, const scenario::VariantSetup& v,
@@ -73,12 +95,7 @@ PoseColumns pose_columns(const model::RobotDescription& robot, const sim::Varian
     const std::array<int, 3> col{r.log.find(o.signals[0]), r.log.find(o.signals[1]), r.log.find(o.signals[2])};
     if (std::all_of(col.begin(), col.end(), [](int k) { return k >= 0; })) c.paths.push_back({o, col});
   }
-  int k = 0;
-  for (std::size_t l = 0; l < robot.links.size(); ++l)
-    for (const auto& sh : robot.links[l].collisions)
-      if (sh.geometry.kind == model::Geometry::Kind::Sphere)
-        c.spheres.push_back({static_cast<int>(l), Eigen::Vector3d(sh.X_LG.translation()), sh.geometry.radius_m,
-                             r.log.find(fmt::format("contact.{}.fx", k++))});
+  add_contacts(robot, r, file, c);
   return c;
 }
 
@@ -128,13 +145,41 @@ viz::Overlays overlays(const model::RobotDescription& robot, const sim::Log& log
   o.text_lines = {title, fmt::format("t = {:.3f} s", log.time()[row])};
   add_paths(log, c, row, o);
   o.com_W = model::center_of_mass(robot, X);
-  for (const auto& s : c.spheres) {
-    if (s.force < 0) continue;
-    const Eigen::Vector3d f(at(log, s.force, row), at(log, s.force + 1, row), at(log, s.force + 2, row));
-    const Eigen::Vector3d p = X[static_cast<std::size_t>(s.link)] * s.center_L - s.radius * Eigen::Vector3d::UnitZ();
-    if (f.allFinite() && f.norm() > 1e-3) o.forces.push_back({p, f, viz::Color{230, 50, 40}});
+  for (const auto& k : c.contacts) {
+    const Eigen::Vector3d f(at(log, k.force, row), at(log, k.force + 1, row), at(log, k.force + 2, row));
+    if (f.allFinite() && f.norm() > 1e-3)
+      o.forces.push_back({contact_point(k.site, X[static_cast<std::size_t>(k.site.link)]), f, viz::Color{230, 50, 40}});
   }
   return o;
+}
+
+// True when a missing mesh was used only as the visual of links drawn from their
+// collision shapes instead (robot_scene.hpp): the stand-ins' line covers it.
+bool replaced_by_collisions(const model::RobotDescription& robot, const std::string& uri) {
+  const auto missing = [&](const model::Shape& s) {
+    return s.geometry.kind == model::Geometry::Kind::Mesh && !s.geometry.mesh && s.geometry.mesh_uri == uri;
+  };
+  bool used = false;
+  for (const model::Link& link : robot.links) {
+    if (std::any_of(link.collisions.begin(), link.collisions.end(), missing)) return false;
+    if (!std::any_of(link.visuals.begin(), link.visuals.end(), missing)) continue;
+    if (!drawn_from_collisions(link)) return false;
+    used = true;
+  }
+  return used;
+}
+
+// One line per missing mesh the robot is drawn without, and one naming the links drawn
+// from their collision shapes.
+std::vector<std::string> mesh_warnings(const model::RobotDescription& robot) {
+  std::vector<std::string> w;
+  for (const auto& m : robot.meshes_missing)
+    if (!replaced_by_collisions(robot, m))
+      w.push_back(fmt::format("{}: mesh '{}' could not be read: the frames draw the robot without it", robot.source, m));
+  if (const auto stand_ins = links_drawn_from_collisions(robot); !stand_ins.empty())
+    w.push_back(fmt::format("{}: {} links drawn from their collision shapes (a visual mesh missing, or no visual): {}",
+                            robot.source, stand_ins.size(), fmt::join(stand_ins, ", ")));
+  return w;
 }
 
 // The table a fixed base is clamped to (the paper's table tests), one scene body in the
@@ -261,8 +306,7 @@ Frames write_frames(const scenario::ScenarioRun& run, const std::string& dir, co
   const auto v = std::find_if(s.variants.begin(), s.variants.end(), [&](const auto& x) { return x.name == out.variant; });
   if (r == run.runs.end() || v == s.variants.end() || r->log.rows() == 0) return out;
   const model::RobotDescription robot = scenario::variant_plant(s, *v).robot;
-  for (const auto& m : robot.meshes_missing)
-    out.warnings.push_back(fmt::format("{}: mesh '{}' could not be read: the frames draw the robot without it", robot.source, m));
+  out.warnings = mesh_warnings(robot);
   const PoseColumns cols = pose_columns(robot, *r, *v, scenario::variant_overlays(s, *v), s.file);
   const int w = options.width_px.value_or(s.frames.width_px), h = options.height_px.value_or(s.frames.height_px);
   const viz::Scene scene = scene_from_robot(robot);

@@ -14,7 +14,7 @@ struct Frames {
   double video_fps = 0;                  // as written into video.mp4
   double speedup = 1;                    // simulated seconds per second of video
   double render_s = 0;                   // wall time spent rendering
-  std::vector<std::string> warnings;     // meshes the robot is drawn without
+  std::vector<std::string> warnings;     // meshes the robot is drawn without; links drawn from collisions
 };
 
 // Frames at every n-th logged row, n chosen so the video plays in real time at about

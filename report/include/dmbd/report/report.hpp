@@ -28,13 +28,14 @@ struct ReportResult {
   std::string page;                // DIR/report.html
   int frames = 0;
   double render_fps = 0;           // frames rendered per wall-clock second (0: none)
-  // The experiment's warnings and the report's own (a mesh the robot is drawn without),
-  // one line each; also on the page.
+  // The experiment's warnings and the report's own (a mesh the robot is drawn without;
+  // the links drawn from their collision shapes, one line), one line each; also on the page.
   std::vector<std::string> warnings;
 };
 
 // Throws InputError for a scenario the frames cannot be drawn from (a joint of the
-// robot missing from the log) and OutputError for a file that cannot be written.
+// robot missing from the log, or contact forces logged for another number of shapes
+// than the robot's colliding ones) and OutputError for a file that cannot be written.
 ReportResult write_report(const scenario::ScenarioRun& run, const std::string& dir, const ReportOptions& options = {});
 
 }  // namespace dmbd::report
