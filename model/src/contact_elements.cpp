@@ -11,6 +11,7 @@ namespace {
 // Appends the shape's elements (link frame on `body`) to `out`; false if it has none.
 bool add_elements(const Shape& sh, int body, ContactElements& out, ContactShape& rec) {
   const Geometry& g = sh.geometry;
+  if (!can_collide(g)) return false;
   const Eigen::Isometry3d& X = sh.X_LG;
   auto add_point = [&](const Eigen::Vector3d& p_G) { out.points.push_back({body, X * p_G}); };
   switch (g.kind) {

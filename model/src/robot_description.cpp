@@ -39,4 +39,14 @@ const char* joint_type_name(JointType t) {
   return "?";
 }
 
+bool can_collide(const Geometry& g) {
+  switch (g.kind) {
+    case Geometry::Kind::Sphere:
+    case Geometry::Kind::Box: return true;
+    case Geometry::Kind::Cylinder: return g.radius_m > 0;
+    case Geometry::Kind::Mesh: return !g.hull_m.empty() || (g.mesh && !g.mesh->vertices.empty());
+  }
+  return false;
+}
+
 }  // namespace dmbd::model

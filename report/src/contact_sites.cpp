@@ -10,20 +10,6 @@ namespace {
 
 using Kind = model::Geometry::Kind;
 
-// Does the plant give the shape contact elements (model/src/contact_elements.cpp)?
-bool collides(const model::Geometry& g) {
-  switch (g.kind) {
-    case Kind::Sphere:
-    case Kind::Box:
-      return true;
-    case Kind::Cylinder:
-      return g.radius_m > 0;
-    case Kind::Mesh:
-      return !g.hull_m.empty() || (g.mesh && !g.mesh->vertices.empty());
-  }
-  return false;
-}
-
 // The shape's points in the link frame (X_LG applied).
 std::vector<Eigen::Vector3d> shape_points(const model::Shape& sh) {
   const model::Geometry& g = sh.geometry;
@@ -61,7 +47,7 @@ std::vector<ContactSite> contact_sites(const model::RobotDescription& robot) {
     const auto& shapes = robot.links[l].collisions;
     for (std::size_t k = 0; k < shapes.size(); ++k) {
       const model::Geometry& g = shapes[k].geometry;
-      if (!collides(g)) continue;
+      if (!model::can_collide(g)) continue;
       ContactSite s;
       s.link = static_cast<int>(l);
       s.shape = static_cast<int>(k);

@@ -310,10 +310,12 @@ Frames write_frames(const scenario::ScenarioRun& run, const std::string& dir, co
   const PoseColumns cols = pose_columns(robot, *r, *v, scenario::variant_overlays(s, *v), s.file);
   const int w = options.width_px.value_or(s.frames.width_px), h = options.height_px.value_or(s.frames.height_px);
   const viz::Scene scene = scene_from_robot(robot);
-  // A fixed base stands on a table: one more scene body, after the links. The camera
-  // still frames the robot alone (make_camera below), so it is as large as without it.
+  // A fixed base without ground contact is clamped to a table (the paper's table tests):
+  // one more scene body, after the links; a fixed base with contact (a test rig standing
+  // on the floor) gets none. The camera still frames the robot alone (make_camera
+  // below), so it is as large as without it.
   std::optional<Table> table;
-  if (v->robot.base == model::BaseMode::Fixed && !scene.bodies.empty())
+  if (v->robot.base == model::BaseMode::Fixed && !v->robot.contact && !scene.bodies.empty())
     table = table_under(scene, link_poses(robot, r->log, cols, 0), cols.X_WB);
   viz::Scene drawn = scene;
   if (table) drawn.bodies.push_back(table->body);

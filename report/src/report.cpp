@@ -38,7 +38,9 @@ std::vector<std::pair<std::string, std::string>> summary(const scenario::Scenari
   std::vector<std::pair<std::string, std::string>> out;
   out.emplace_back("scenario file", fs::path(s.file).filename().string());
   out.emplace_back("robot", robot_name(v0.robot));
-  out.emplace_back("base", v0.robot.base == model::BaseMode::Fixed ? "fixed to the table" : "floating, on the ground");
+  out.emplace_back("base", v0.robot.base == model::BaseMode::Floating ? "floating, on the ground"
+                           : v0.robot.contact                        ? "fixed to the world, standing on the ground"
+                                                                     : "fixed to the table");
   std::string names;
   for (const auto& r : run.runs) names += (names.empty() ? "" : ", ") + r.name;
   out.emplace_back("variants", names);

@@ -163,6 +163,12 @@ void add_payload(RobotDescription& robot, const std::string& link, double mass_k
 RobotDescription freeze_joints(const RobotDescription& robot,
                                const std::vector<std::pair<std::string, double>>& positions);
 
+// Whether a collision shape touches the ground in the plant (docs/model.md, "Contact"):
+// a sphere and a box always, a cylinder of positive radius, a mesh whose file loaded
+// (its convex hull's points). The plant numbers its contacts over these shapes (links in
+// order, each link's in URDF order): the log's contact.K.
+bool can_collide(const Geometry& geometry);
+
 // The type as URDF writes it: "fixed", "revolute", "continuous", "prismatic", "floating", "planar".
 const char* joint_type_name(JointType type);
 
