@@ -88,6 +88,7 @@ VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
   po.X_WB = r.X_WB;
   po.gravity_m_s2 = r.gravity_m_s2;
   po.contact = r.contact;
+  po.ground_normal = r.ground_normal;
   po.integration = v.integration.mode;
   po.step_s = v.integration.step_s;
   po.accuracy = v.integration.accuracy;

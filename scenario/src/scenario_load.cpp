@@ -23,7 +23,7 @@ namespace detail {
 
 void Reader::robot(const YAML::Node& n, RobotSetup& r) const {
   keys(n, "robot", {"name", "urdf", "base", "base_pose", "actuators", "moving", "freeze", "initial", "lock", "payloads", "loads",
-                    "contact", "gravity", "support"});
+                    "contact", "gravity", "ground_normal", "support"});
   if (n["name"] && n["urdf"]) fail(n["urdf"], "robot: give either 'name' (a robot folder) or 'urdf' (a file), not both");
   optional(n, "name", [&](const YAML::Node& x) { robot_name(x, r); });
   optional(n, "urdf", [&](const YAML::Node& u) {
@@ -56,6 +56,11 @@ void Reader::robot(const YAML::Node& n, RobotSetup& r) const {
   optional(n, "loads", [&](const YAML::Node&) { loads(n, r); });
   optional(n, "contact", [&](const YAML::Node& c) { r.contact = boolean(c, "robot.contact"); });
   optional(n, "gravity", [&](const YAML::Node& g) { r.gravity_m_s2 = number(g, "robot.gravity"); });
+  optional(n, "ground_normal", [&](const YAML::Node& g) {
+    const Eigen::Vector3d v = vec3(g, "robot.ground_normal");
+    if (!(v.z() > 0)) fail(g, "robot.ground_normal: expected a normal pointing up (its z above 0), got [" + fmt::format("{}, {}, {}", v.x(), v.y(), v.z()) + "]");
+    r.ground_normal = v.normalized();
+  });
   optional(n, "support", [&](const YAML::Node& x) { support(x, r); });
 }
 

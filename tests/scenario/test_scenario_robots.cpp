@@ -114,6 +114,35 @@ TEST(RobotsFeet, AHopperStandsOnABoxACylinderAndAMeshFoot) {
   stands("<mesh filename=\"foot.obj\"/>", dir.file(""), "mesh");
 }
 
+// A box on a slope (robot.ground_normal tilted by theta about y): held by friction
+// (mu = 0.8) at 20 degrees, sliding down at 45 degrees (tan 45 = 1 > mu) with the
+// sliding acceleration g (sin - mu cos) along the slope.
+TEST(RobotsFeet, ABoxHoldsOnAGentleSlopeAndSlidesDownASteepOne) {
+  TempDir dir;
+  write_text(dir.file("box.urdf"), "<robot name=\"box\"><link name=\"box\">" +
+                                       dmbd::model::testing::inertial(2.0, dmbd::model::testing::box_inertia(2.0, {0.2, 0.2, 0.1})) +
+                                       "<collision><geometry>" + dmbd::model::testing::box_xml({0.2, 0.2, 0.1}) +
+                                       "</geometry></collision></link></robot>\n");
+  for (const double deg : {20.0, 45.0}) {
+    const double th = deg * M_PI / 180;
+    write_text(dir.file("slope.yaml"), "name: slope\nrobot: {urdf: box.urdf, base: floating, contact: true, base_pose: {rpy: [0, " +
+                                           std::to_string(-th) + ", 0]},\n        ground_normal: [" + std::to_string(-std::sin(th)) + ", 0, " +
+                                           std::to_string(std::cos(th)) + "]}\nintegration: {mode: fixed, step_s: 0.0005}\nduration_s: 1\n"
+                                           "log_rate_hz: 100\n");
+    const dmbd::sim::VariantResult r = run_only(dir.file("slope.yaml"));
+    const auto& x = r.log.column("base.x");
+    const double moved = x.back() - x[50];  // over the last 0.5 s, along world x (down-slope is -x here)
+    std::printf("box on a %.0f degree slope: moved %.4g m along x over 0.5 s\n", deg, moved);
+    if (deg < 30) {
+      EXPECT_LT(std::abs(moved), 1e-3);
+    } else {
+      const double a = 9.81 * (std::sin(th) - 0.8 * std::cos(th));  // along the slope
+      const double expected = -0.5 * a * std::cos(th) * (1.0 - 0.25);  // s(1) - s(0.5) from rest at t = 0, its horizontal part (down: -x)
+      EXPECT_NEAR(moved, expected, 0.05 * std::abs(expected));
+    }
+  }
+}
+
 // ---------------------------------------------------------------- DRACO renamed
 
 // Every link and joint name of the URDF, longest first.

@@ -72,6 +72,9 @@ struct RobotSetup {
   std::vector<ReflectedLoad> loads;            // `loads`, in file order
   bool contact = false;                        // `contact`: every collision shape against the ground
   double gravity_m_s2 = 9.81;                  // `gravity`, m/s^2 along -z of the world (0: none)
+  // `ground_normal`: the ground plane's normal through the origin (normalised; a tilted
+  // one makes a slope, gravity stays along -z), world frame.
+  Eigen::Vector3d ground_normal = Eigen::Vector3d::UnitZ();
   std::optional<sim::SupportSpec> support;          // a floating base held horizontally until released
   // Where each named entry was written ("file:line:col"), keyed "moving:NAME",
   // "actuators:NAME", "freeze:NAME", "initial:NAME", "lock:NAME", "loads:NAME",
