@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <string>
 
-#include "../model/contact_fixtures.hpp"
+#include "contact_fixtures.hpp"
 #include "dmbd/model/plant.hpp"
 
 namespace dmbd::report::detail {
