@@ -49,8 +49,9 @@ void stand(const RobotDescription& r, const char* foot) {
     tilt = std::max(tilt, std::acos(std::clamp(X.linear()(2, 2), -1.0, 1.0)));
   }
   double fz = 0;
-  for (const ContactReading& c : p.contacts()) fz += c.force_W.z();
-  const ContactReading& f = p.contacts().back();
+  const std::vector<ContactReading> contacts = p.contacts();
+  for (const ContactReading& c : contacts) fz += c.force_W.z();
+  const ContactReading& f = contacts.back();
   const double tilt_end = std::acos(std::clamp(p.base_pose().linear()(2, 2), -1.0, 1.0)), speed = p.base_velocity().norm();
   std::printf("hopper on a %s foot, 2 s with a push: torso at %.4f m, height change %.2e m, sway %.2e m, tilt %.2e rad "
               "(at the end %.2e rad, torso speed %.2e); foot carries %.2f N of %.2f N\n", foot, z0, dz, dx, tilt, tilt_end, speed,
