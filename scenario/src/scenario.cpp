@@ -3,6 +3,7 @@
 #include "engine_names.hpp"
 #include "dmbd/scenario/scenario.hpp"
 
+#include "robot_cache.hpp"
 #include "variant_checks.hpp"
 #include "variant_controllers.hpp"
 
@@ -29,7 +30,7 @@ namespace dmbd::scenario {
 
 namespace {
 
-model::RobotDescription load_robot(const RobotSetup& r) { return model::load_urdf(r.urdf); }
+model::RobotDescription load_robot(const RobotSetup& r) { return *detail::cached_urdf(r.urdf); }
 
 }  // namespace
 

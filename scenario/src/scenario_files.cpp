@@ -9,6 +9,7 @@
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/model/robot_folder.hpp"
+#include "robot_cache.hpp"
 
 namespace dmbd::scenario {
 
@@ -29,7 +30,7 @@ void add_diagram(std::vector<std::string>& files, const diagrams::Diagram& d) {
 
 void add_urdf(std::vector<std::string>& files, const std::string& urdf) {
   add(files, urdf);
-  const model::RobotDescription robot = model::load_urdf(urdf);
+  const model::RobotDescription& robot = *detail::cached_urdf(urdf);
   for (const auto& link : robot.links)
     for (const auto* shapes : {&link.visuals, &link.collisions})
       for (const auto& shape : *shapes)

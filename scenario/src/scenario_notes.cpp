@@ -8,6 +8,7 @@
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/scenario/scenario.hpp"
+#include "robot_cache.hpp"
 
 namespace dmbd::scenario {
 
@@ -18,7 +19,7 @@ std::vector<std::string> scenario_notes(const Scenario& s) {
   for (const auto& v : s.variants) {
     const RobotSetup& r = v.robot;
     if (r.urdf.empty() || !urdfs.insert(r.urdf).second) continue;
-    const model::RobotDescription robot = model::load_urdf(r.urdf);
+    const model::RobotDescription& robot = *detail::cached_urdf(r.urdf);
     for (const auto& w : robot.warnings) out.push_back("warning: " + w);
     if (!r.all_actuators || r.actuator_file.empty() || !tables.insert(r.urdf + "\n" + r.actuator_file).second) continue;
     const auto ideal = model::joints_without_actuator(model::load_actuators(r.actuator_file, blocks::expression_numbers()), robot);
