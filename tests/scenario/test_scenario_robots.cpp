@@ -17,6 +17,8 @@
 #include "dmbd/control/registry.hpp"
 #include "dmbd/experiments/registry.hpp"
 #include "dmbd/scenario/run_directory.hpp"
+#include "dmbd/report/report.hpp"
+#include "dmbd/scenario/evaluate.hpp"
 #include "dmbd/scenario/scenario.hpp"
 #include "sim_test_support.hpp"
 
@@ -73,6 +75,89 @@ TEST(RobotsOsc, IdealJointsFollowTheirTorquesAndTheHandItsPath) {
     EXPECT_EQ(cmd, r.log.column(std::string(j) + ".tau_d")) << j;
     EXPECT_GT(largest(cmd) - smallest(cmd), 0.1) << j;
   }
+}
+
+// ---------------------------------------------------------------- a user's actuator file
+
+// The arm given as a URDF alone with an actuator file of its user's (robot.actuators:
+// {file, joints}): the shoulder on a rotary geared motor, the elbow on a rotary
+// series-elastic actuator, the yaw an ideal joint (listed as such). Each joint's current
+// comes from a PD on its angle (joint_pd_current.yaml): the actuator signals are logged
+// in their units, the elbow's spring torque is K_s times its twist, the windings warm,
+// and the report names the user's robot (the URDF's robot name).
+TEST(RobotsActuators, AUsersUrdfWithItsOwnActuatorFileOfBothRotaryKinds) {
+  TempDir dir;
+  write_text(dir.file("arm_actuators.yaml"), R"(format: 1
+actuators:
+  - joint: shoulder
+    kind: rotary
+    J_m_kgm2: 2.0e-5
+    gear_ratio: 80
+    k_tau_Nm_per_A: 0.06
+    current_limit_A: 20
+    torque_limit_Nm: 60
+    efficiency: 0.8
+    viscous_friction_Nms: 0.05
+    coulomb_friction_Nm: 0.2
+    thermal: &t {R_winding_ohm: 0.4, alpha_per_K: 0.00393, C_winding_J_per_K: 15, C_housing_J_per_K: 100,
+                 R_wh_K_per_W: 1.5, R_ha_air_K_per_W: 5.0, R_ha_liquid_K_per_W: 5.0, T_ambient_C: 25, T_winding_max_C: 120}
+    motor_encoder: &e {counts_per_unit: 2607.59}
+  - joint: elbow
+    kind: rotary_sea
+    J_m_kgm2: 2.0e-5
+    gear_ratio: 80
+    K_s_Nm_per_rad: 400
+    B_s_Nms_per_rad: 2
+    k_tau_Nm_per_A: 0.06
+    current_limit_A: 20
+    torque_limit_Nm: 40
+    efficiency: 0.8
+    viscous_friction_Nms: 0.05
+    coulomb_friction_Nm: 0.2
+    thermal: *t
+    motor_encoder: *e
+    spring_encoder: {counts_per_unit: 20860.76}
+)");
+  const std::string pdc = kSource + "/examples/diagrams/joint_pd_current.yaml";
+  std::string yaml = "name: arm_rotary\nrobot: {urdf: " + kArm + ", base: fixed, initial: {shoulder: -0.4, elbow: 1.2},\n"
+                     "        actuators: {file: arm_actuators.yaml, joints: all}}\n"
+                     "integration: {mode: fixed, step_s: 0.0005}\nsensors: {noise: true, seed: 3}\nduration_s: 1\nlog_rate_hz: 500\n"
+                     "references: {shoulder_d: -0.4, elbow_d: 1.2, zero: 0, yaw_d: 0}\ncontrollers:\n";
+  for (const auto& [j, inertia] : {std::pair<const char*, double>{"shoulder", 0.45}, {"elbow", 0.15}})
+    yaml += std::string("  - {name: ") + j + ", diagram: " + pdc + ", rate_hz: 1000, implementation: generated,\n" +
+            "     parameters: {I_j: " + std::to_string(inertia) + ", f_c: 3, N: 80, k_tau: 0.06, eta: 0.8, tau_max: 40},\n" +
+            "     inputs: {q_d: " + j + "_d, qd_d: zero, tau_ff: zero, q: " + j + ".q, qd: " + j + ".qd}, outputs: {i: " + j + ".current}}\n";
+  yaml += "  - {name: yaw, diagram: " + kPd + ", rate_hz: 1000, parameters: {Kp: 50, Kd: 5},\n"
+          "     inputs: {q_d: yaw_d, qd_d: zero, tau_ff: zero, q: yaw.q, qd: yaw.qd}, outputs: {torque: yaw.torque}}\n";
+  write_text(dir.file("arm_rotary.yaml"), yaml);
+  const sc::Scenario s = sc::load_scenario(dir.file("arm_rotary.yaml"));
+  const std::vector<std::string> notes = sc::scenario_notes(s);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("1 joint(s) without an entry in " + dir.file("arm_actuators.yaml") + ", driven by ideal joint torques: yaw"),
+            std::string::npos)
+      << notes[0];
+  const sc::ScenarioRun run = sc::run_scenario(s, dir.file("out"));
+  const dmbd::sim::Log& log = run.runs.front().log;
+  EXPECT_EQ(log.unit(log.find("shoulder.force")), "N m");  // the rigid motor's current-based estimate
+  EXPECT_EQ(log.unit(log.find("elbow.force")), "N m");     // the spring's torque
+  EXPECT_EQ(log.unit(log.find("elbow.spring_deflection")), "rad");
+  EXPECT_LT(log.find("shoulder.spring_deflection"), 0);  // a rigid gear has no spring
+  EXPECT_LT(log.find("shoulder.q_pot"), 0);              // no potentiometer given
+  const auto& twist = log.column("elbow.force_true");
+  EXPECT_GT(std::abs(twist.back()), 1.0);  // the spring carries the forearm
+  for (const char* j : {"shoulder", "elbow"}) {
+    EXPECT_GT(largest(log.column(std::string(j) + ".T_winding")), 25.0) << j;  // the currents warm the windings
+    EXPECT_GT(std::abs(log.column(std::string(j) + ".current_applied").back()), 0.1) << j;
+  }
+  EXPECT_LT(std::abs(log.column("shoulder.q").back() + 0.4), 0.05);
+  EXPECT_TRUE(run.runs.front().sil.has_value());  // the two PDs ran as their generated code
+  const std::string page = dmbd::report::write_report(run, dir.file("out"), [] {
+                             dmbd::report::ReportOptions o;
+                             o.frames = false;
+                             return o;
+                           }())
+                               .page;
+  EXPECT_NE(read_text(page).find("arm3 (" + kArm + ")"), std::string::npos);  // the URDF's robot name
 }
 
 // ---------------------------------------------------------------- feet of every shape
@@ -201,6 +286,16 @@ TEST(RobotsRenamed, ACopyOfDracoWithEveryNameChangedBalancesBitForBit) {
     EXPECT_EQ(ra.log.column(static_cast<int>(c)), rb.log.column(static_cast<int>(c))) << na;  // bit for bit
   }
   EXPECT_GT(ra.log.column("balance.touch_downs").back(), 0.0);  // it stepped
+  // The balance experiment's metrics of both, equal (wall-clock figures aside).
+  auto metrics = [](const sc::Scenario& s, const dmbd::sim::VariantResult& r) {
+    nlohmann::json m = sc::evaluate_experiment(s, {r}).metrics["balance"];
+    for (auto& [name, v] : m.items()) {
+      v.erase("wbc_tick_us");
+      v.erase("real_time_factor");
+    }
+    return m;
+  };
+  EXPECT_EQ(metrics(a, ra).dump(), metrics(b, rb).dump());
 }
 
 // Balancing names the robot's torso, feet and joints: on a robot whose folder gives none
