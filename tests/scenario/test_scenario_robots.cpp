@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <regex>
 #include <set>
+#include <tuple>
 
 #include "contact_fixtures.hpp"
 #include "dmbd/base/error.hpp"
@@ -123,9 +124,13 @@ actuators:
                      "        actuators: {file: arm_actuators.yaml, joints: all}}\n"
                      "integration: {mode: fixed, step_s: 0.0005}\nsensors: {noise: true, seed: 3}\nduration_s: 1\nlog_rate_hz: 500\n"
                      "references: {shoulder_d: -0.4, elbow_d: 1.2, zero: 0, yaw_d: 0}\ncontrollers:\n";
-  for (const auto& [j, inertia] : {std::pair<const char*, double>{"shoulder", 0.45}, {"elbow", 0.15}})
+  // The shoulder's loop at 5 Hz: a PD has a static error of its gravity load over Kp
+  // (about 10 N m over 444 N m/rad = 0.023 rad here; at 3 Hz it would be 0.064 rad). The
+  // elbow's stays at 3 Hz, well below its spring mode (sqrt(K_s / J_m N^2) = 8.9 Hz).
+  for (const auto& [j, inertia, f_c] : {std::tuple<const char*, double, int>{"shoulder", 0.45, 5}, {"elbow", 0.15, 3}})
     yaml += std::string("  - {name: ") + j + ", diagram: " + pdc + ", rate_hz: 1000, implementation: generated,\n" +
-            "     parameters: {I_j: " + std::to_string(inertia) + ", f_c: 3, N: 80, k_tau: 0.06, eta: 0.8, tau_max: 40},\n" +
+            "     parameters: {I_j: " + std::to_string(inertia) + ", f_c: " + std::to_string(f_c) +
+            ", N: 80, k_tau: 0.06, eta: 0.8, tau_max: 40},\n" +
             "     inputs: {q_d: " + j + "_d, qd_d: zero, tau_ff: zero, q: " + j + ".q, qd: " + j + ".qd}, outputs: {i: " + j + ".current}}\n";
   yaml += "  - {name: yaw, diagram: " + kPd + ", rate_hz: 1000, parameters: {Kp: 50, Kd: 5},\n"
           "     inputs: {q_d: yaw_d, qd_d: zero, tau_ff: zero, q: yaw.q, qd: yaw.qd}, outputs: {torque: yaw.torque}}\n";
@@ -149,7 +154,8 @@ actuators:
     EXPECT_GT(largest(log.column(std::string(j) + ".T_winding")), 25.0) << j;  // the currents warm the windings
     EXPECT_GT(std::abs(log.column(std::string(j) + ".current_applied").back()), 0.1) << j;
   }
-  EXPECT_LT(std::abs(log.column("shoulder.q").back() + 0.4), 0.05);
+  std::printf("rotary shoulder: static error %.4f rad; elbow spring torque %.3f N m\n", log.column("shoulder.q").back() + 0.4, twist.back());
+  EXPECT_LT(std::abs(log.column("shoulder.q").back() + 0.4), 0.035);
   EXPECT_TRUE(run.runs.front().sil.has_value());  // the two PDs ran as their generated code
   const std::string page = dmbd::report::write_report(run, dir.file("out"), [] {
                              dmbd::report::ReportOptions o;
