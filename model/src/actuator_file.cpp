@@ -26,7 +26,7 @@ enum class Check { Any, Positive, NonNegative, Fraction, Sign, Whole };
 // The keys an entry of each kind may have (docs/actuator-format.md). Every kind:
 const std::vector<std::string> kCommonKeys = {"joint",           "kind",       "J_m_kgm2", "k_tau_Nm_per_A",
                                               "current_limit_A", "efficiency", "thermal",  "motor_encoder",
-                                              "load"};
+                                              "load",            "load_sets"};
 // The VLCAs' (M_r_kg: RFSEA only) and the rotary kinds' (K_s, B_s, spring_encoder:
 // ROTARY_SEA only).
 const std::vector<std::string> kVlcaKeys = {"B_m_Nms",      "N_m_rad_per_m", "K_s_N_per_m",    "B_s_Ns_per_m",
@@ -217,6 +217,7 @@ class Reader {
     if (p.is_rotary()) rotary(e, ctx, p);
     else vlca(e, ctx, p);
     load(e, ctx, p);
+    load_sets(e, ctx, p);
     thermal(e, ctx, p.thermal);
     const YAML::Node me = submap(e, "motor_encoder", ctx, {"counts_per_unit"});
     p.motor_encoder.counts_per_unit = number(me, "counts_per_unit", ctx + " motor_encoder", Check::Positive, "counts/rad");
@@ -270,6 +271,26 @@ class Reader {
     if (!e["load"]) return;
     const YAML::Node l = submap(e, "load", ctx, {key});
     p.B_l_Ns_per_m = optional(l, key, ctx + " load", Check::NonNegative, p.is_rotary() ? "N m s/rad" : "N s/m", 0.0);
+  }
+
+  // Named alternatives to `load:`, optional: `load_sets: {NAME: {the load keys}}` (a
+  // robot's output damping beside the test stand's). A key left out of a set is 0, as
+  // in `load:`.
+  void load_sets(const YAML::Node& e, const std::string& ctx, ActuatorParams& p) {
+    if (!e["load_sets"]) return;
+    const YAML::Node sets = e["load_sets"];
+    const std::string key = p.is_rotary() ? "B_l_Nms_per_rad" : "B_l_Ns_per_m";
+    if (!sets.IsMap() || sets.size() == 0) fail(sets, ctx + ": 'load_sets' must be a map of named load terms, e.g. {robot: {" + key + ": 4000}}");
+    for (const auto& kv : sets) {
+      const std::string name = kv.first.Scalar();
+      for (const auto& earlier : p.load_sets)
+        if (earlier.name == name) fail(kv.first, ctx + " load_sets: '" + name + "' is given twice (first at " + earlier.where + ")");
+      if (!kv.second.IsMap()) fail(kv.second, ctx + " load_sets: '" + name + "' must be a map with the key " + key);
+      keys(kv.second, {key}, ctx + " load_sets '" + name + "'", "key");
+      const double b = optional(kv.second, key, ctx + " load_sets '" + name + "'", Check::NonNegative,
+                                p.is_rotary() ? "N m s/rad" : "N s/m", 0.0);
+      p.load_sets.push_back({name, b, rd_.at(kv.first).str()});
+    }
   }
 
   void thermal(const YAML::Node& e, const std::string& ctx, ThermalParams& th) {

@@ -2,6 +2,7 @@
 #include "dmbd/scenario/evaluate.hpp"
 
 #include "engine_names.hpp"
+#include "sweep_plots.hpp"
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/control/registry.hpp"
@@ -60,6 +61,7 @@ experiments::ExperimentResult evaluate_experiment(const Scenario& s, const std::
     res = e->evaluate(s.experiment, runs, facts);
   }
   add_plots(s, runs, res);
+  detail::add_sweep_plots(s, res);
   return res;
 }
 

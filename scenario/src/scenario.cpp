@@ -32,6 +32,26 @@ namespace {
 
 model::RobotDescription load_robot(const RobotSetup& r) { return *detail::cached_urdf(r.urdf); }
 
+// robot.actuators' `load` (a named load set of the file) and `scale` (a parameter of every
+// entry times a factor), in that order; a mistake is an error at its scenario line.
+template <class Where>
+void vary_actuators(const RobotSetup& r, std::vector<model::ActuatorParams>& table, const Where& where) {
+  if (!r.actuator_load_set.empty()) {
+    try {
+      model::select_load_set(table, r.actuator_load_set);
+    } catch (const model::ModelError& e) {
+      throw InputError(where("actuators.load") + ": robot.actuators.load: " + e.what());
+    }
+  }
+  for (const auto& [symbol, factor] : r.actuator_scales) {
+    try {
+      model::scale_parameter(table, symbol, factor);
+    } catch (const model::ModelError& e) {
+      throw InputError(where("actuators.scale:" + symbol) + ": robot.actuators.scale: " + e.what());
+    }
+  }
+}
+
 }  // namespace
 
 VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
@@ -83,6 +103,7 @@ VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
                                             "{file: FILE, joints: all} (docs/actuator-format.md)");
     table = model::load_actuators(r.actuator_file, blocks::expression_numbers());
     model::check_actuators_against(table, as_loaded);
+    vary_actuators(r, table, where);
   }
   model::PlantOptions po;
   po.base = r.base;

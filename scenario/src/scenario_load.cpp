@@ -15,6 +15,7 @@
 #include "dmbd/base/file.hpp"
 #include "dmbd/base/yaml_reader.hpp"
 #include "dmbd/blocks/expression_numbers.hpp"
+#include "dmbd/model/actuator.hpp"
 #include "dmbd/scenario/scenario.hpp"
 
 namespace dmbd::scenario {
@@ -77,17 +78,38 @@ void Reader::robot_name(const YAML::Node& x, RobotSetup& r) const {
   r.where["robot"] = at(x);
 }
 
-// `actuators`: all, a list of joints, or {file: FILE, joints: all or a list}.
+// `actuators`: all, a list of joints, or {file: FILE, joints: all or a list, load: SET,
+// scale: {SYMBOL: FACTOR}}.
 void Reader::robot_actuators(const YAML::Node& a, RobotSetup& r) const {
-  YAML::Node joints = a;
+  // Not `YAML::Node joints = a; joints = ...`: assigning to a yaml-cpp Node overwrites
+  // the node it refers to (here the scenario's own actuators map).
+  if (a.IsMap()) keys(a, "robot.actuators", {"file", "joints", "load", "scale"});
+  const YAML::Node joints = a.IsMap() ? required(a, "joints", "robot.actuators") : a;
   if (a.IsMap()) {
-    keys(a, "robot.actuators", {"file", "joints"});
     optional(a, "file", [&](const YAML::Node& f) { r.actuator_file = path(f, "robot.actuators.file"); });
-    joints = required(a, "joints", "robot.actuators");
+    optional(a, "load", [&](const YAML::Node& l) {
+      r.actuator_load_set = text(l, "robot.actuators.load");
+      r.where["actuators.load"] = at(l);
+    });
+    optional(a, "scale", [&](const YAML::Node& sc) { actuator_scales(sc, r); });
   }
   r.all_actuators = joints.IsScalar() && joints.Scalar() == "all";
   r.actuators = r.all_actuators ? std::vector<std::string>{} : names(joints, "robot.actuators", &r.where, "actuators");
   r.where["actuators"] = at(a);
+}
+
+// `actuators.scale: {SYMBOL: FACTOR}`: each symbol one of model::scalable_parameters(),
+// each factor a number >= 0 (model::scale_parameter checks the rest when the table is read).
+void Reader::actuator_scales(const YAML::Node& sc, RobotSetup& r) const {
+  if (!sc.IsMap() || sc.size() == 0) fail(sc, "robot.actuators.scale: expected a map {parameter: factor}, e.g. {B_l: 0.5}");
+  if (!rd.keys(sc, model::scalable_parameters(), "robot.actuators.scale", "actuator parameter")) throw yaml::Skip{};
+  for (const auto& kv : sc) {
+    const std::string symbol = kv.first.Scalar();
+    const double f = number(kv.second, "robot.actuators.scale." + symbol);
+    if (!(f >= 0)) fail(kv.second, "robot.actuators.scale." + symbol + ": expected a factor >= 0, got " + kv.second.Scalar());
+    r.actuator_scales.emplace_back(symbol, f);
+    r.where["actuators.scale:" + symbol] = at(kv.second);
+  }
 }
 
 // The start-up support of a floating base (SupportSpec, simulation.hpp).
@@ -297,6 +319,11 @@ using namespace detail;
 const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz",
                                                          "sensors", "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall"};
 
+// A matrix value may also give `value`: its number on the axis (sweep_plots' x).
+const std::initializer_list<const char*> kMatrixValueKeys = {"name", "value", "robot", "controllers", "references", "forces", "duration_s",
+                                                             "log_rate_hz", "sensors", "thermal", "integration", "bus_controllers", "osc",
+                                                             "balance", "end_on_fall"};
+
 void read_variants(const Reader& rd, const YAML::Node& list, const VariantSetup& base, Scenario& s) {
   if (!list.IsSequence()) rd.fail(list, "variants: expected a list");
   rd.each(list, [&](const YAML::Node& n) {
@@ -323,12 +350,13 @@ void read_matrix(const Reader& rd, const YAML::Node& matrix, const VariantSetup&
     std::vector<VariantSetup> next;
     for (const VariantSetup& prev : s.variants)
       for (const auto& n : axis.second) {
-        rd.keys(n, "matrix." + an, kVariantKeys);
+        rd.keys(n, "matrix." + an, kMatrixValueKeys);
         if (!n["name"]) rd.fail(n, "matrix." + an + ": each value needs a 'name'");
         VariantSetup v = prev;
         const std::string vn = rd.text(n["name"], "name");
         v.name = prev.name.empty() ? vn : prev.name + "/" + vn;
         v.axes.emplace_back(an, vn);
+        if (n["value"]) v.axis_values.emplace_back(an, rd.number(n["value"], "matrix." + an + "." + vn + ".value"));
         rd.variant_fields(n, v);
         next.push_back(v);
       }
@@ -375,8 +403,8 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   if (!root.IsMap()) rd.rd.fail(Location{path, 1, 1}, "a scenario is a map (name, robot, controllers, ...)");
   // Unknown keys are reported and the rest is read all the same.
   rd.rd.keys(root, {"name", "description", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz", "sensors",
-                    "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall", "frames", "plots", "log", "variants", "matrix",
-                    "experiment"},
+                    "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall", "frames", "plots", "sweep_plots", "log", "variants",
+                    "matrix", "experiment"},
              "scenario");
   Scenario s;
   s.file = path;
@@ -400,6 +428,7 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
                   "robot: expected 'name' (a robot folder: robots/NAME) or 'urdf' (a URDF file)");
   rd.optional(root, "frames", [&](const YAML::Node& f) { read_frames(rd, f, seen, s.frames); });
   rd.optional(root, "plots", [&](const YAML::Node&) { read_plots(rd, root, s.plots); });
+  rd.optional(root, "sweep_plots", [&](const YAML::Node& l) { read_sweep_plots(rd, l, root["matrix"], s.sweep_plots); });
   rd.optional(root, "log", [&](const YAML::Node& l) { s.log_signals = rd.names(l, "log"); });
   s.experiment.file = path;
   rd.optional(root, "experiment", [&](const YAML::Node& e) { rd.experiment(e, s.experiment); });

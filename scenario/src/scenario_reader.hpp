@@ -139,6 +139,7 @@ struct Reader : ReaderBase, yaml::Fields {
   void robot(const YAML::Node& n, RobotSetup& r) const;
   void robot_name(const YAML::Node& n, RobotSetup& r) const;
   void robot_actuators(const YAML::Node& a, RobotSetup& r) const;
+  void actuator_scales(const YAML::Node& sc, RobotSetup& r) const;
   void support(const YAML::Node& x, RobotSetup& r) const;
   Eigen::Isometry3d base_pose(const YAML::Node& p) const;
   void payloads(const YAML::Node& n, RobotSetup& r) const;
@@ -155,5 +156,9 @@ struct Reader : ReaderBase, yaml::Fields {
   void sensors(const YAML::Node& s, VariantSetup& v) const;
   void thermal(const YAML::Node& t, VariantSetup& v) const;
 };
+
+// `sweep_plots` (sweep_plot_load.cpp): each entry's axis must be one of `matrix`'s
+// axes whose every value gives `value`.
+void read_sweep_plots(const Reader& rd, const YAML::Node& list, const YAML::Node& matrix, std::vector<SweepPlotSetup>& out);
 
 }  // namespace dmbd::scenario::detail

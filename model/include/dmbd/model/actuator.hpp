@@ -104,6 +104,14 @@ struct ActuatorParams {
   // ---- output-side load terms (the file's `load:` map): properties of what the actuator
   // drives, which differ between a test stand and the robot.
   double B_l_Ns_per_m = 2.0e4;       // output damping: N s/m along the actuator (VLCA, Table I B_l); N m s/rad at the joint (rotary)
+  // Other load terms for the same actuator, by name (the file's `load_sets:`; e.g. the
+  // robot's where `load:` holds the test stand's): select_load_set() puts one in place.
+  struct LoadSet {
+    std::string name;
+    double B_l_Ns_per_m = 0;
+    std::string where;               // "file:line:column" of the set's entry
+  };
+  std::vector<LoadSet> load_sets;
 
   LinkageGeometry linkage;           // RFSEA, FSEA only (use moment_arm() etc., not this)
   ThermalParams thermal;
@@ -146,6 +154,21 @@ const char* kind_name(ActuatorKind kind);
 // problem, one line each. Numbers are read by `numbers`: plain numbers unless a caller
 // above model supplies expressions (blocks::expression_numbers()).
 std::vector<ActuatorParams> load_actuators(const std::string& yaml_path, const NumberParser& numbers = plain_number);
+
+// Puts each entry's load set `name` (its `load_sets:`) in place of its `load:` terms.
+// Throws ModelError (one line, at the first such entry's `where`, naming every entry
+// without it and the sets the table has) when an entry has no set of that name: a set
+// chosen for a robot applies to every actuator of the table, or the choice is a mistake.
+void select_load_set(std::vector<ActuatorParams>& table, const std::string& name);
+
+// The parameters scale_parameter() accepts, by symbol (docs/actuator-format.md,
+// "Scaling"): J_m, B_m, K_s, B_s, M_r, B_l, k_tau, viscous_friction, coulomb_friction.
+const std::vector<std::string>& scalable_parameters();
+// Multiplies parameter `symbol` of every entry by `factor` (a sweep or a robustness
+// study: "every joint's B_l at s times its own value"). Throws ModelError for an unknown
+// symbol, a negative or non-finite factor, or 0 for a parameter that must stay positive
+// (J_m, K_s, k_tau).
+void scale_parameter(std::vector<ActuatorParams>& table, const std::string& symbol, double factor);
 
 // The table against the robot it is for: throws ModelError, one line per problem at
 // the entry's `where`, for a joint the robot does not have and for a joint that cannot

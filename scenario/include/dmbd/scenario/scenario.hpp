@@ -63,6 +63,8 @@ struct RobotSetup {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   bool all_actuators = false;                  // `actuators: all`: every actuator whose joint moves
   std::vector<std::string> actuators;          // joints driven through their actuators (the file's entries)
+  std::string actuator_load_set;               // `actuators.load`: a named load set of the file ("": each entry's `load:`)
+  std::vector<std::pair<std::string, double>> actuator_scales;  // `actuators.scale`: {symbol: factor}, in file order
   bool freeze_all_others = false;              // weld every 1-dof joint not in `moving`
   std::vector<std::string> moving;             // `moving` (given: freeze_all_others is set)
   std::vector<std::pair<std::string, double>> freeze;   // welded at these angles (others at 0 clamped into limits)
@@ -77,7 +79,7 @@ struct RobotSetup {
   Eigen::Vector3d ground_normal = Eigen::Vector3d::UnitZ();
   std::optional<sim::SupportSpec> support;          // a floating base held horizontally until released
   // Where each named entry was written ("file:line:col"), keyed "moving:NAME",
-  // "actuators:NAME", "freeze:NAME", "initial:NAME", "lock:NAME", "loads:NAME",
+  // "actuators:NAME", "actuators.load", "actuators.scale:SYMBOL", "freeze:NAME", "initial:NAME", "lock:NAME", "loads:NAME",
   // "payloads:LINK", and "support": mistakes found only when the robot is built are
   // reported there.
   std::map<std::string, std::string> where;
@@ -128,6 +130,25 @@ struct PlotSetup {
   std::vector<std::string> signals;            // "signal" or "variant:signal"
 };
 
+// A figure of merit against a swept parameter (`sweep_plots`, docs/scenario-format.md):
+// one numeric matrix axis on x, one metrics.json value per run on y, and the
+// condition it must meet, so that the figure shows the interval of the parameter where
+// an observation holds (and metrics.json `sweeps` gives it).
+struct SweepCurve {
+  std::string metric;                 // `metric`: a JSON pointer into metrics.json, {run} standing for the run's name
+  std::string label;                  // `label`: the curve's name (its axes' title)
+  double scale = 1;                   // `scale`: plotted and compared as metric x scale (e.g. 1000: m to mm)
+  std::optional<double> at_most, at_least;  // `at_most`, `at_least`: the condition, in scaled units
+};
+struct SweepPlotSetup {
+  std::string file;                   // `file`: the PNG's name in plots/ (its stem keys metrics.json `sweeps`)
+  std::string axis;                   // `axis`: a matrix axis whose every value gives `value`
+  std::string title, x_label, y_label;
+  bool log_x = false;                 // `log_x`: a logarithmic x axis
+  std::vector<SweepCurve> curves;     // `curves`: one axes each, stacked, sharing x
+  std::string where;                  // "file:line:col" of the entry
+};
+
 // How the plant is integrated (model::PlantOptions): error-controlled (accurate, for
 // identification and frequency responses) or the fixed semi-implicit step.
 struct IntegrationSetup {
@@ -141,6 +162,7 @@ struct IntegrationSetup {
 struct VariantSetup {
   std::string name;                            // "base" without variants
   std::vector<std::pair<std::string, std::string>> axes;  // matrix axis -> value name
+  std::vector<std::pair<std::string, double>> axis_values;  // matrix axis -> the value's `value` (where given)
   RobotSetup robot;                            // `robot`
   std::vector<ControllerSetup> controllers;    // `controllers`, stepped in this order at a shared tick
   std::vector<sim::ReferenceSpec> references;       // `references`
@@ -168,6 +190,7 @@ struct Scenario {
   std::vector<VariantSetup> variants;
   FrameSetup frames;              // `frames`
   std::vector<PlotSetup> plots;   // `plots`
+  std::vector<SweepPlotSetup> sweep_plots;  // `sweep_plots`
   experiments::ExperimentSetup experiment;  // `experiment` (type "" without one)
   // `log`: signals kept for the log alone (a controller output nothing else reads is
   // otherwise refused as a likely misspelling).

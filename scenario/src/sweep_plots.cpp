@@ -1,0 +1,174 @@
+// A figure of merit against a swept parameter (docs/scenario-format.md, "sweep_plots"):
+// the runs grouped into lines by their other matrix axes, each line's points ordered by
+// the swept axis's `value`, and the sampled values where every curve's condition holds.
+// The verdict is about the sampled values only: between a value where it holds and one
+// where it fails the boundary is not located, and the figure and the metrics say so.
+#include "sweep_plots.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "dmbd/base/error.hpp"
+
+namespace dmbd::scenario::detail {
+
+namespace {
+
+// One line of runs: those whose other axes have the same values, ordered by x.
+struct Line {
+  std::string name;                        // the other axes' value names joined with "/" ("" when the sweep axis is the only one)
+  std::vector<std::pair<double, std::string>> points;  // (x, run name)
+};
+
+std::vector<Line> lines_of(const Scenario& s, const std::string& axis) {
+  std::vector<Line> lines;
+  for (const VariantSetup& v : s.variants) {
+    std::string other;
+    for (const auto& [a, value] : v.axes)
+      if (a != axis) other += (other.empty() ? "" : "/") + value;
+    const auto x = std::find_if(v.axis_values.begin(), v.axis_values.end(), [&](const auto& av) { return av.first == axis; });
+    if (x == v.axis_values.end()) continue;  // load_scenario refuses this
+    auto it = std::find_if(lines.begin(), lines.end(), [&](const Line& l) { return l.name == other; });
+    if (it == lines.end()) it = lines.insert(lines.end(), Line{other, {}});
+    it->points.emplace_back(x->second, v.name);
+  }
+  for (Line& l : lines) std::stable_sort(l.points.begin(), l.points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return lines;
+}
+
+// The run's name inside a JSON pointer: '~' and '/' escaped (RFC 6901).
+std::string pointer_token(const std::string& name) {
+  std::string out;
+  for (char c : name) out += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return out;
+}
+
+double value_of(const Scenario& s, const SweepPlotSetup& p, const SweepCurve& c, const std::string& run, const nlohmann::json& metrics) {
+  std::string ptr = c.metric;
+  for (std::size_t at; (at = ptr.find("{run}")) != std::string::npos;) ptr.replace(at, 5, pointer_token(run));
+  const std::string where = fmt::format("{}: sweep_plot '{}' ({}): metric {} of run '{}'", s.file, p.file, p.where, ptr, run);
+  nlohmann::json::json_pointer jp;
+  try {
+    jp = nlohmann::json::json_pointer(ptr);
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(where + ": not a valid JSON pointer");
+  }
+  if (!metrics.contains(jp)) throw InputError(where + ": metrics.json has no such value");
+  const nlohmann::json& v = metrics.at(jp);
+  if (v.is_null()) return NAN;  // a figure the experiment could not compute
+  if (!v.is_number()) throw InputError(where + ": expected a number, got " + v.dump());
+  return v.get<double>() * c.scale;
+}
+
+bool meets(const SweepCurve& c, double y) {
+  if (std::isnan(y)) return !c.at_most && !c.at_least;
+  return (!c.at_most || y <= *c.at_most) && (!c.at_least || y >= *c.at_least);
+}
+
+// The sampled values where every condition holds, and the nearest failing neighbours.
+nlohmann::json verdict(const std::vector<double>& x, const std::vector<bool>& holds) {
+  nlohmann::json out;
+  std::vector<double> at;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (holds[k]) at.push_back(x[k]);
+  out["holds_at"] = at;
+  if (at.empty()) {
+    out["verdict"] = "holds at no sampled value";
+    return out;
+  }
+  const auto first = std::find(holds.begin(), holds.end(), true) - holds.begin();
+  const auto last = holds.rend() - std::find(holds.rbegin(), holds.rend(), true) - 1;
+  const bool contiguous = std::all_of(holds.begin() + first, holds.begin() + last + 1, [](bool b) { return b; });
+  out["contiguous"] = contiguous;
+  out["holds_from"] = x[static_cast<std::size_t>(first)];
+  out["holds_to"] = x[static_cast<std::size_t>(last)];
+  out["fails_below"] = first > 0 ? nlohmann::json(x[static_cast<std::size_t>(first - 1)]) : nlohmann::json();
+  out["fails_above"] = last + 1 < static_cast<long>(x.size()) ? nlohmann::json(x[static_cast<std::size_t>(last + 1)]) : nlohmann::json();
+  std::string v = fmt::format("holds at the sampled values {:g} to {:g}", at.front(), at.back());
+  if (!contiguous) v += " (not at every sampled value between)";
+  if (first > 0) v += fmt::format("; fails at {:g}", x[static_cast<std::size_t>(first - 1)]);
+  if (last + 1 < static_cast<long>(x.size())) v += fmt::format("{} {:g}", first > 0 ? " and" : "; fails at", x[static_cast<std::size_t>(last + 1)]);
+  out["verdict"] = v + (first > 0 || last + 1 < static_cast<long>(x.size()) ? " (the edge lies between the samples)" : "");
+  return out;
+}
+
+// The sampled range with a margin (a log axis's automatic whole decades would leave most
+// of a 0.05..1 sweep's width empty).
+std::optional<std::pair<double, double>> x_limits(const std::vector<Line>& lines, bool log_x) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Line& l : lines)
+    for (const auto& pt : l.points)
+      if (std::isfinite(pt.first) && (!log_x || pt.first > 0)) lo = std::min(lo, pt.first), hi = std::max(hi, pt.first);
+  if (!(lo < hi)) return std::nullopt;
+  if (log_x) return std::pair{lo / std::pow(hi / lo, 0.04), hi * std::pow(hi / lo, 0.04)};
+  return std::pair{lo - 0.04 * (hi - lo), hi + 0.04 * (hi - lo)};
+}
+
+// One axes per curve, one series per line, the condition as a dashed line.
+plot::Figure figure_of(const SweepPlotSetup& p, const std::vector<Line>& lines, const std::vector<std::vector<std::vector<double>>>& y) {
+  plot::Figure fig(1000, static_cast<int>(120 + 260 * p.curves.size()));
+  fig.title = p.title;
+  for (std::size_t c = 0; c < p.curves.size(); ++c) {
+    plot::Axes& a = fig.add_axes();
+    a.title = p.curves[c].label;
+    a.y_label = p.y_label;
+    a.x_label = c + 1 == p.curves.size() ? p.x_label : "";
+    a.x_tick_labels = c + 1 == p.curves.size();
+    if (p.log_x) a.x_scale = plot::Scale::Log;
+    a.x_limits = x_limits(lines, p.log_x);
+    for (std::size_t l = 0; l < lines.size(); ++l) {
+      plot::Series s{lines[l].name, {}, y[l][c], plot::palette_color(l)};
+      for (const auto& pt : lines[l].points) s.x.push_back(pt.first);
+      s.markers = true;
+      a.series.push_back(s);
+    }
+    for (const auto& [bound, word] : {std::pair{p.curves[c].at_most, "at most"}, std::pair{p.curves[c].at_least, "at least"}})
+      if (bound) {
+        a.h_lines.push_back(*bound);
+        a.h_line_labels.push_back(fmt::format("{} {:g}", word, *bound));
+      }
+    a.legend = lines.size() > 1;
+  }
+  return fig;
+}
+
+}  // namespace
+
+void add_sweep_plots(const Scenario& s, experiments::ExperimentResult& res) {
+  for (const SweepPlotSetup& p : s.sweep_plots) {
+    const std::vector<Line> lines = lines_of(s, p.axis);
+    std::vector<std::vector<std::vector<double>>> y(lines.size());  // [line][curve][point]
+    nlohmann::json entry = {{"axis", p.axis}, {"lines", nlohmann::json::object()}};
+    for (std::size_t l = 0; l < lines.size(); ++l) {
+      std::vector<double> x;
+      std::vector<std::string> runs;
+      for (const auto& [xv, run] : lines[l].points) x.push_back(xv), runs.push_back(run);
+      std::vector<bool> holds(x.size(), true);
+      nlohmann::json curves = nlohmann::json::object();
+      for (const SweepCurve& c : p.curves) {
+        std::vector<double> ys;
+        for (std::size_t k = 0; k < runs.size(); ++k) {
+          ys.push_back(value_of(s, p, c, runs[k], res.metrics));
+          holds[k] = holds[k] && meets(c, ys.back());
+        }
+        curves[c.label] = ys;
+        y[l].push_back(ys);
+      }
+      nlohmann::json line = {{p.axis, x}, {"runs", runs}, {"curves", curves}, {"holds", holds}};
+      line.update(verdict(x, holds));
+      const std::string name = lines[l].name.empty() ? "all" : lines[l].name;
+      res.notes.push_back(fmt::format("Sweep {} ({}): {} over {}: {}.", p.file, name, p.title.empty() ? "the conditions" : p.title, p.axis,
+                                      line["verdict"].get<std::string>()));
+      entry["lines"][name] = line;
+    }
+    res.metrics["sweeps"][std::filesystem::path(p.file).stem().string()] = entry;
+    res.figures.emplace_back(p.file, figure_of(p, lines, y));
+  }
+}
+
+}  // namespace dmbd::scenario::detail
