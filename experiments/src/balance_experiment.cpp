@@ -29,6 +29,7 @@
 
 #include <fmt/format.h>
 
+#include "damping_replay.hpp"
 #include "experiment_support.hpp"
 #include "push_capture.hpp"
 #include "dmbd/wholebody/capture.hpp"
@@ -391,6 +392,26 @@ void add_figures(const std::vector<Run>& runs, const Params& p, const std::strin
   res.figures.emplace_back("balance_phases.png", phases_figure(runs, p, file));
 }
 
+// The knees' output damping replayed (`replay_scales`: damping_replay.hpp) on a run that
+// stood: its metrics under balance.RUN.damping_replay, a figure, the verdict as a note.
+void add_replay(const Run& run, const ExperimentSetup& e, const Params& p, ExperimentResult& res) {
+  const auto scales = e.numbers.find("replay_scales");
+  if (scales == e.numbers.end()) return;
+  if (run.fell()) {
+    res.warnings.push_back(fmt::format("variant '{}' fell: its motion is not replayed with other output damping", run.r.name));
+    return;
+  }
+  detail::ReplayParams rp{p.winding_joints, scales->second, detail::number_or(e, "replay_duration_s", 600.0),
+                          detail::number_or(e, "replay_from_s", p.start_s), std::nullopt, std::nullopt};
+  if (e.number.count("replay_cooled_below_C")) rp.cooled_below_C = e.number.at("replay_cooled_below_C");
+  if (e.number.count("replay_uncooled_above_C")) rp.uncooled_above_C = e.number.at("replay_uncooled_above_C");
+  const auto out = detail::replay_damping(run.r, rp, e.file);
+  if (!out) return;  // no actuator on the windings' joints (ideal joints)
+  res.metrics["balance"][run.r.name]["damping_replay"] = out->metrics;
+  res.figures.emplace_back("balance_damping_replay_" + detail::file_safe(run.r.name) + ".png", out->figure);
+  res.notes.push_back(out->note);
+}
+
 // The balancing controller's signal prefix: from the first variant that has one.
 std::string balance_prefix(const std::vector<VariantFacts>& variants) {
   for (const auto& v : variants)
@@ -416,6 +437,7 @@ ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResu
       res.warnings.push_back(fmt::format("variant '{}': the run ends before stepping starts ({} s)", r.name, p.start_s));
     if (run.fell()) res.warnings.push_back(fmt::format("variant '{}' fell at t = {:.3f} s", r.name, run.end_s()));
     run_metrics(run, p, variants[k], e.file, res.metrics["balance"][r.name]);
+    add_replay(run, e, p, res);
   }
   add_figures(analysed, p, e.file, res);
   res.notes.push_back(fmt::format("Fell: torso below {} m or tilted beyond {} rad; stepping from t = {} s; steps, landing errors and CoM "
@@ -427,11 +449,43 @@ ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResu
 
 }  // namespace
 
-std::shared_ptr<const Experiment> balance_experiment() {
-  return std::make_shared<detail::FunctionExperiment>(
-      std::map<std::string, KeyKind>{{"leg", KeyKind::Text}, {"start_s", KeyKind::Number}, {"fall_height_m", KeyKind::Number}, {"fall_tilt_rad", KeyKind::Number},
-            {"winding_joints", KeyKind::Joints}}, false,
-      [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) { return balance(e, runs, variants); });
-}
+namespace {
+
+// The balance experiment records what the damping replay needs of the windings' actuators.
+class BalanceExperiment : public detail::FunctionExperiment {
+ public:
+  BalanceExperiment()
+      : FunctionExperiment({{"leg", KeyKind::Text},
+                            {"start_s", KeyKind::Number},
+                            {"fall_height_m", KeyKind::Number},
+                            {"fall_tilt_rad", KeyKind::Number},
+                            {"winding_joints", KeyKind::Joints},
+                            {"replay_scales", KeyKind::Numbers},
+                            {"replay_duration_s", KeyKind::Number},
+                            {"replay_from_s", KeyKind::Number},
+                            {"replay_cooled_below_C", KeyKind::Number},
+                            {"replay_uncooled_above_C", KeyKind::Number}},
+                           false,
+                           [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) {
+                             return balance(e, runs, variants);
+                           }) {}
+  void record(const ExperimentSetup& e, const RecordContext& c, std::map<std::string, double>& truth) const override {
+    Experiment::record(e, c, truth);
+    const auto scales = e.numbers.find("replay_scales");
+    if (scales == e.numbers.end()) return;
+    const std::string at = e.where.count("replay_scales") ? e.where.at("replay_scales") : e.file;
+    for (double s : scales->second)
+      if (!(s >= 0)) throw InputError(fmt::format("{}: experiment.replay_scales: expected factors >= 0, got {}", at, s));
+    if (detail::number_or(e, "replay_duration_s", 600.0) <= 0)
+      throw InputError(e.where.at("replay_duration_s") + ": experiment.replay_duration_s: expected a duration > 0");
+    const auto joints = e.names.find("winding_joints");
+    if (joints == e.names.end()) throw InputError(at + ": experiment.replay_scales: expected winding_joints too (the joints replayed)");
+    detail::record_replay(joints->second, c, truth);
+  }
+};
+
+}  // namespace
+
+std::shared_ptr<const Experiment> balance_experiment() { return std::make_shared<BalanceExperiment>(); }
 
 }  // namespace dmbd::experiments

@@ -1,5 +1,7 @@
 #pragma once
 // Internal to experiments/: helpers the experiments share.
+#include <algorithm>
+#include <cctype>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,12 @@ namespace dmbd::experiments::detail {
 inline const std::vector<double>& signal(const VariantResult& r, const std::string& name, const std::string& file) {
   if (r.log.find(name) < 0) throw InputError(file + ": variant '" + r.name + "' logged no signal '" + name + "'");
   return r.log.column(name);
+}
+
+// A run's name as part of a file name: anything but letters, digits, '_' and '-' becomes '_'.
+inline std::string file_safe(std::string name) {
+  std::replace_if(name.begin(), name.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-'; }, '_');
+  return name;
 }
 
 // An experiment's optional text / numeric field.

@@ -146,11 +146,6 @@ plot::Figure current_figure(const VariantResult& r, const std::vector<std::strin
   return fig;
 }
 
-std::string file_safe(std::string name) {
-  std::replace_if(name.begin(), name.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-'; }, '_');
-  return name;
-}
-
 // The osc controller's point: from the first variant that has one.
 Point osc_point(const std::vector<VariantFacts>& variants) {
   for (const auto& v : variants)
@@ -181,8 +176,8 @@ ExperimentResult osc_table(const ExperimentSetup& e, const std::vector<VariantRe
     m["current_saturation_fraction"] = saturation_fraction(r, w, joints, e.file);
     for (const char* stat : {"median", "max"})
       if (const auto it = r.timing_us.find(std::string("osc_tick_us_") + stat); it != r.timing_us.end()) m["osc_tick_us"][stat] = it->second;
-    res.figures.emplace_back("osc_torque_" + file_safe(r.name) + ".png", torque_figure(r, joints, e));
-    res.figures.emplace_back("osc_current_" + file_safe(r.name) + ".png", current_figure(r, joints, e));
+    res.figures.emplace_back("osc_torque_" + detail::file_safe(r.name) + ".png", torque_figure(r, joints, e));
+    res.figures.emplace_back("osc_current_" + detail::file_safe(r.name) + ".png", current_figure(r, joints, e));
   }
   res.figures.emplace_back("osc_ankle.png", point_figure(runs, pt, e));
   res.figures.emplace_back("osc_error.png", error_figure(runs, t0, pt, e));

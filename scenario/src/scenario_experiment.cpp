@@ -35,6 +35,7 @@ void Reader::experiment(const YAML::Node& e, experiments::ExperimentSetup& x) co
       }
       if (it->second == KeyKind::Number) x.number[k] = number(kv.second, "experiment." + k);
       else if (it->second == KeyKind::Joints) x.names[k] = names(kv.second, "experiment." + k);
+      else if (it->second == KeyKind::Numbers) x.numbers[k] = number_list(kv.second, "experiment." + k);
       else x.text[k] = text(kv.second, "experiment." + k);
     });
   }

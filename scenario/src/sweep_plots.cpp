@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/experiments/sampled_interval.hpp"
 
 namespace dmbd::scenario::detail {
 
@@ -68,33 +69,6 @@ double value_of(const Scenario& s, const SweepPlotSetup& p, const SweepCurve& c,
 bool meets(const SweepCurve& c, double y) {
   if (std::isnan(y)) return !c.at_most && !c.at_least;
   return (!c.at_most || y <= *c.at_most) && (!c.at_least || y >= *c.at_least);
-}
-
-// The sampled values where every condition holds, and the nearest failing neighbours.
-nlohmann::json verdict(const std::vector<double>& x, const std::vector<bool>& holds) {
-  nlohmann::json out;
-  std::vector<double> at;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    if (holds[k]) at.push_back(x[k]);
-  out["holds_at"] = at;
-  if (at.empty()) {
-    out["verdict"] = "holds at no sampled value";
-    return out;
-  }
-  const auto first = std::find(holds.begin(), holds.end(), true) - holds.begin();
-  const auto last = holds.rend() - std::find(holds.rbegin(), holds.rend(), true) - 1;
-  const bool contiguous = std::all_of(holds.begin() + first, holds.begin() + last + 1, [](bool b) { return b; });
-  out["contiguous"] = contiguous;
-  out["holds_from"] = x[static_cast<std::size_t>(first)];
-  out["holds_to"] = x[static_cast<std::size_t>(last)];
-  out["fails_below"] = first > 0 ? nlohmann::json(x[static_cast<std::size_t>(first - 1)]) : nlohmann::json();
-  out["fails_above"] = last + 1 < static_cast<long>(x.size()) ? nlohmann::json(x[static_cast<std::size_t>(last + 1)]) : nlohmann::json();
-  std::string v = fmt::format("holds at the sampled values {:g} to {:g}", at.front(), at.back());
-  if (!contiguous) v += " (not at every sampled value between)";
-  if (first > 0) v += fmt::format("; fails at {:g}", x[static_cast<std::size_t>(first - 1)]);
-  if (last + 1 < static_cast<long>(x.size())) v += fmt::format("{} {:g}", first > 0 ? " and" : "; fails at", x[static_cast<std::size_t>(last + 1)]);
-  out["verdict"] = v + (first > 0 || last + 1 < static_cast<long>(x.size()) ? " (the edge lies between the samples)" : "");
-  return out;
 }
 
 // The sampled range with a margin (a log axis's automatic whole decades would leave most
@@ -160,7 +134,7 @@ void add_sweep_plots(const Scenario& s, experiments::ExperimentResult& res) {
         y[l].push_back(ys);
       }
       nlohmann::json line = {{p.axis, x}, {"runs", runs}, {"curves", curves}, {"holds", holds}};
-      line.update(verdict(x, holds));
+      line.update(experiments::sampled_interval(x, holds));
       const std::string name = lines[l].name.empty() ? "all" : lines[l].name;
       res.notes.push_back(fmt::format("Sweep {} ({}): {} over {}: {}.", p.file, name, p.title.empty() ? "the conditions" : p.title, p.axis,
                                       line["verdict"].get<std::string>()));

@@ -379,6 +379,34 @@ TEST(BalanceScenario, TheActuatedVariantStepsThirtySecondsToIssue15Targets) {
   EXPECT_GE(m.at("steps").get<long long>(), 78);
   EXPECT_LE(m.at("landing_error_rms_m").get<double>(), 0.02);
   EXPECT_GE(m.at("com_lateral_velocity_reversals").get<double>(), 0.95);
+  // The knees' damping replay (10 min of this stepping, B_l at s times the run's): the
+  // current and both winding peaks rise with s on each knee.
+  const nlohmann::json& replay = m.at("damping_replay");
+  for (const char* knee : {"l_knee", "r_knee"})
+    for (const char* key : {"current_rms_A", "peak_winding_cooled_C", "peak_winding_uncooled_C"}) {
+      const auto v = replay.at("joints").at(knee).at(key).get<std::vector<double>>();
+      ASSERT_EQ(v.size(), replay.at("scales").size());
+      for (std::size_t k = 1; k < v.size(); ++k) EXPECT_GT(v[k], v[k - 1]) << knee << " " << key << " " << k;
+    }
+  // Cross-check against the plant's own thermal models: the whole run (from t = 0, for its
+  // 34 s) replayed at s = 1 is the logged current, and its winding peaks are the logged
+  // ones to within 1 K of the 98 K rise (the plant holds the current per 0.5 ms step, the
+  // replay per 5 ms log interval).
+  Scenario whole = s;
+  whole.experiment.numbers["replay_scales"] = {1.0};
+  whole.experiment.number["replay_from_s"] = 0.0;
+  whole.experiment.number["replay_duration_s"] = 34.0;
+  const nlohmann::json w = evaluate_experiment(whole, {r}).metrics.at("balance").at("actuated");
+  for (const char* knee : {"l_knee", "r_knee"}) {
+    double logged_cooled = 0, logged_uncooled = 0;
+    for (double x : r.log.column(std::string(knee) + ".T_winding_cooled")) logged_cooled = std::max(logged_cooled, x);
+    for (double x : r.log.column(std::string(knee) + ".T_winding_uncooled")) logged_uncooled = std::max(logged_uncooled, x);
+    const auto& j = w.at("damping_replay").at("joints").at(knee);
+    std::printf("%s winding peak over the run: replayed %.2f / %.2f C, logged %.2f / %.2f C (cooled / uncooled)\n", knee,
+                j.at("peak_winding_cooled_C")[0].get<double>(), j.at("peak_winding_uncooled_C")[0].get<double>(), logged_cooled, logged_uncooled);
+    EXPECT_NEAR(j.at("peak_winding_cooled_C")[0].get<double>(), logged_cooled, 1.0) << knee;
+    EXPECT_NEAR(j.at("peak_winding_uncooled_C")[0].get<double>(), logged_uncooled, 1.0) << knee;
+  }
 }
 
 // ---------------------------------------------------------------- the actuator force

@@ -50,6 +50,13 @@ class Fields {
   std::string key(const YAML::Node& k, const std::string& what) const { return rd_.key(k, what); }
   YAML::Node list(const YAML::Node& map, const char* key, const std::string& what) const { return rd_.list(map, key, what); }
 
+  // A non-empty list of numbers (at most 10000).
+  std::vector<double> number_list(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsSequence() || n.size() == 0 || n.size() > 10000) fail(n, what + ": expected a list of 1 to 10000 numbers");
+    std::vector<double> v;
+    for (const auto& e : n) v.push_back(number(e, what));
+    return v;
+  }
   // A list of exactly N numbers.
   template <std::size_t N>
   std::array<double, N> numbers(const YAML::Node& n, const std::string& what) const {

@@ -47,15 +47,16 @@ struct ExperimentSetup {
   std::map<std::string, std::string> text;     // further string fields (signal names ...)
   std::map<std::string, double> number;        // further numeric fields (windows ...)
   std::map<std::string, std::vector<std::string>> names;  // further lists of names (joints ...)
+  std::map<std::string, std::vector<double>> numbers;     // further lists of numbers (a sweep's values ...)
   std::string file;                            // the scenario file (messages name it)
   // Where each key was written ("file:line:col"), by key ("type", "joint", ...).
   std::map<std::string, std::string> where;
 };
 
 // The kind of a key an experiment reads besides type, joint and figure_labels: text, a
-// number, the name of one of the robot's joints or links, or a list of joint names
-// (names are checked against the robot before anything runs).
-enum class KeyKind { Text, Number, Joint, Link, Joints };
+// number, the name of one of the robot's joints or links, a list of joint names (names
+// are checked against the robot before anything runs), or a non-empty list of numbers.
+enum class KeyKind { Text, Number, Joint, Link, Joints, Numbers };
 
 // What an experiment knows of one variant besides its run: the parts of its set-up an
 // analysis may need (the scenario module fills it from the variant).
