@@ -138,12 +138,16 @@ struct SweepCurve {
   std::string metric;                 // `metric`: a JSON pointer into metrics.json, {run} standing for the run's name
   std::string label;                  // `label`: the curve's name (its axes' title)
   double scale = 1;                   // `scale`: plotted and compared as metric x scale (e.g. 1000: m to mm)
-  std::optional<double> at_most, at_least;  // `at_most`, `at_least`: the condition, in scaled units
+  std::optional<double> at_most;      // `at_most`: the condition's upper bound, in scaled units
+  std::optional<double> at_least;     // `at_least`: its lower bound
 };
+// One entry of `sweep_plots`.
 struct SweepPlotSetup {
   std::string file;                   // `file`: the PNG's name in plots/ (its stem keys metrics.json `sweeps`)
   std::string axis;                   // `axis`: a matrix axis whose every value gives `value`
-  std::string title, x_label, y_label;
+  std::string title;                  // `title` (may be empty)
+  std::string x_label;                // `x_label` (default: the axis)
+  std::string y_label;                // `y_label` (may be empty)
   bool log_x = false;                 // `log_x`: a logarithmic x axis
   std::vector<SweepCurve> curves;     // `curves`: one axes each, stacked, sharing x
   std::string where;                  // "file:line:col" of the entry
