@@ -151,28 +151,33 @@ void switch_times(const Source& s, std::vector<double>& out) {
   for (const auto& p : s.plus) switch_times(p, out);
 }
 
-// The times a source is read at: the log's samples and the source's own switching times
-// up to t_end (a step's exact start and end however coarse the log, and the pushes of a
-// run that ended early), and t_end.
-std::vector<double> push_grid(const std::vector<double>& t, const Source& s, double t_end) {
-  std::vector<double> g = t, extra{t_end};
+// The times (on the run's clock) a source started at `start` is read at: the log's
+// samples from `start` on, the source's own switching times moved by `start` up to t_end
+// (a step's exact start and end however coarse the log, and the pushes of a run that
+// ended early), `start` and t_end.
+std::vector<double> push_grid(const std::vector<double>& t, const Source& s, double start, double t_end) {
+  std::vector<double> g, extra{start, t_end};
   switch_times(s, extra);
+  for (double x : t)
+    if (x >= start) g.push_back(x);
+  for (std::size_t k = 2; k < extra.size(); ++k) extra[k] += start;
   for (double x : extra)
-    if (x > t.front() && x <= t_end) g.push_back(x);
+    if (x >= std::max(start, t.front()) && x <= t_end) g.push_back(x);
   std::sort(g.begin(), g.end());
   g.erase(std::unique(g.begin(), g.end()), g.end());
   return g;
 }
 
 // Each interval up to t_end over which the force's source is nonzero (one still on at
-// t_end ends there).
-void find_pushes(const ForceSpec& f, const std::vector<double>& t, double t_end, std::vector<Push>& out) {
+// t_end ends there). A force started by a trigger runs its source from `start` (the
+// logged forces.K.start_s); one never started pushed nothing.
+void find_pushes(const ForceSpec& f, const std::vector<double>& t, double t_end, double start, std::vector<Push>& out) {
   const double scale = f.direction_W.norm();
-  if (scale == 0 || t.empty()) return;
-  const auto g = push_grid(t, f.source, t_end);
+  if (scale == 0 || t.empty() || !std::isfinite(start)) return;
+  const auto g = push_grid(t, f.source, start, t_end);
   bool on = false;
   for (double x : g) {
-    const double v = f.source.value(x);
+    const double v = f.source.value(x - start);
     if (v == 0) {
       if (on) out.back().end_s = x;
       on = false;
@@ -203,7 +208,14 @@ nlohmann::json push_lipm(const Run& run, const VariantFacts& v, const Push& p, c
 
 nlohmann::json push_metrics(const Run& run, const VariantFacts& v, const std::string& file) {
   std::vector<Push> pushes;
-  for (const auto& f : v.forces) find_pushes(f, run.t, std::max(run.t.back(), v.duration_s), pushes);
+  for (std::size_t k = 0; k < v.forces.size(); ++k) {
+    double start = 0.0;  // on the run's clock
+    if (v.forces[k].trigger) {
+      const int c = run.r.log.find(fmt::format("forces.{}.start_s", k));
+      start = c < 0 ? NAN : run.r.log.column(c).back();
+    }
+    find_pushes(v.forces[k], run.t, std::max(run.t.back(), v.duration_s), start, pushes);
+  }
   std::sort(pushes.begin(), pushes.end(), [](const Push& a, const Push& b) { return a.start_s < b.start_s; });
   nlohmann::json out = nlohmann::json::array();
   for (const auto& p : pushes) {

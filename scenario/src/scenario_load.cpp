@@ -281,7 +281,7 @@ void Reader::end_on_fall(const YAML::Node& n, VariantSetup& v) const {
 void Reader::forces(const YAML::Node& n, VariantSetup& v) const {
   v.forces.clear();
   each(list(n, "forces", "forces"), [&](const YAML::Node& e) {
-    keys(e, "force", {"link", "point", "direction", "source"});
+    keys(e, "force", {"link", "point", "direction", "source", "trigger"});
     ForceSpec f;
     f.link = text(required(e, "link", "force"), "force.link");
     f.where = at(e["link"]);
@@ -289,8 +289,19 @@ void Reader::forces(const YAML::Node& n, VariantSetup& v) const {
     if (e["direction"]) f.direction_W = vec3(e["direction"], "force.direction");
     if (!e["source"]) fail(e, "force: expected 'source'");
     f.source = source(e["source"], "force.source");
+    optional(e, "trigger", [&](const YAML::Node& t) { f.trigger = trigger(t); });
     v.forces.push_back(f);
   });
+}
+
+// A force's `trigger: {signal, occurrence (1), after_s (0)}`.
+ForceSpec::Trigger Reader::trigger(const YAML::Node& t) const {
+  keys(t, "force.trigger", {"signal", "occurrence", "after_s"});
+  ForceSpec::Trigger tr;
+  tr.signal = text(required(t, "signal", "force.trigger"), "force.trigger.signal");
+  optional(t, "occurrence", [&](const YAML::Node& x) { tr.occurrence = static_cast<int>(integer(x, "force.trigger.occurrence", 1, 1000000000)); });
+  optional(t, "after_s", [&](const YAML::Node& x) { tr.after_s = rd.number_in(x, "force.trigger.after_s", 0.0, 1e6, "s"); });
+  return tr;
 }
 
 void Reader::sensors(const YAML::Node& s, VariantSetup& v) const {

@@ -140,6 +140,7 @@ struct Reader : ReaderBase, yaml::Fields {
   void robot_name(const YAML::Node& n, RobotSetup& r) const;
   void robot_actuators(const YAML::Node& a, RobotSetup& r) const;
   void actuator_scales(const YAML::Node& sc, RobotSetup& r) const;
+  ForceSpec::Trigger trigger(const YAML::Node& t) const;
   void support(const YAML::Node& x, RobotSetup& r) const;
   Eigen::Isometry3d base_pose(const YAML::Node& p) const;
   void payloads(const YAML::Node& n, RobotSetup& r) const;

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "dmbd/sim/event_grid.hpp"
+#include "dmbd/base/strings.hpp"
 
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/model/error.hpp"
@@ -176,6 +177,7 @@ struct Simulation::Impl {
         for (const auto& r : spec.references)
           if (o == r.name) throw InputError(at(r.where) + "controller '" + c.name + "' and a reference both drive '" + o + "'");
     for (const auto& c : spec.controllers) ctrls.push_back(bind(c));
+    bind_triggers();
     currents = Eigen::VectorXd::Zero(na);
     torques = Eigen::VectorXd::Zero(nj);
     for (const auto& J : plant.joint_names()) {
@@ -321,15 +323,68 @@ struct Simulation::Impl {
     }
     if (changed) plant.set_joint_torques(torques);
   }
+  // Forces started by a bus event (ForceSpec::Trigger): per force, its signal (-1: none),
+  // the logged start, the signal's last value, the changes seen and the start T (kNever
+  // until known).
+  struct TriggerState {
+    int signal = -1, start_sig = -1;
+    double last = 0;
+    int seen = 0;
+    Ns start = kNever;
+  };
+  std::vector<TriggerState> triggers;
+  void bind_triggers() {
+    for (std::size_t f = 0; f < spec.forces.size(); ++f) {
+      triggers.emplace_back();
+      const auto& tr = spec.forces[f].trigger;
+      if (!tr) continue;
+      const int s = find(tr->signal);
+      if (s < 0) {
+        const std::string close = closest_name(tr->signal, names);
+        throw InputError(at(spec.forces[f].where) + "force on link '" + spec.forces[f].link + "': trigger signal '" + tr->signal +
+                         "' is not on the bus" + (close.empty() ? std::string() : " (the closest: '" + close + "')"));
+      }
+      triggers.back().signal = s;
+      triggers.back().start_sig = add(fmt::format("forces.{}.start_s", f), "s");
+      bus[static_cast<std::size_t>(triggers.back().start_sig)] = std::nan("");
+    }
+  }
+  void init_triggers() {
+    for (auto& tr : triggers)
+      if (tr.signal >= 0) tr.last = bus[static_cast<std::size_t>(tr.signal)];
+  }
+  // The triggers' signals at event t (after its publications): true when a force started.
+  bool check_triggers(Ns t) {
+    bool started = false;
+    for (std::size_t f = 0; f < triggers.size(); ++f) {
+      TriggerState& tr = triggers[f];
+      if (tr.signal < 0 || tr.start != kNever) continue;
+      const double v = bus[static_cast<std::size_t>(tr.signal)];
+      if (v != tr.last && ++tr.seen == spec.forces[f].trigger->occurrence) {
+        tr.start = t + static_cast<Ns>(std::llround(spec.forces[f].trigger->after_s * 1e9));
+        bus[static_cast<std::size_t>(tr.start_sig)] = t_of(tr.start);
+        started = true;
+      }
+      tr.last = v;
+    }
+    return started;
+  }
+  // Force f's magnitude at t: its source on the simulation's clock, or from its trigger's start.
+  double force_value(std::size_t f, Ns t) const {
+    const TriggerState& tr = triggers[f];
+    if (tr.signal < 0) return spec.forces[f].source.value(t_of(t));
+    return tr.start != kNever && t >= tr.start ? spec.forces[f].source.value(t_of(t - tr.start)) : 0.0;
+  }
   std::vector<double> force_values;
   // Forces are held between events; the plant is only touched when one changes (each
   // change restarts its integrator).
-  void apply_forces(double t) {
+  void apply_forces(Ns t_ns) {
     if (spec.forces.empty() && !spec.support) return;
+    const double t = t_of(t_ns);
     bool changed = force_values.size() != spec.forces.size();
     force_values.resize(spec.forces.size());
     for (std::size_t f = 0; f < spec.forces.size(); ++f) {
-      const double v = spec.forces[f].source.value(t);
+      const double v = force_value(f, t_ns);
       changed = changed || v != force_values[f];
       force_values[f] = v;
     }
@@ -455,9 +510,10 @@ Log Simulation::run(const std::function<void(double)>& on_progress) {
   Ns next_progress = end / 100;
   Ns t = 0;
   m.refresh_true();
-  m.apply_forces(0.0);
+  m.init_triggers();
+  m.apply_forces(0);
   for (;;) {
-    // Events at t: publications, then controller ticks, then the log.
+    // Events at t: publications, then controller ticks (then the forces the bus's changes start), then the log.
     for (auto& c : m.ctrls)
       if (c.publish_at == t) m.publish(c);
     bool tick = false;
@@ -478,6 +534,7 @@ Log Simulation::run(const std::function<void(double)>& on_progress) {
     // References are evaluated at controller ticks and log ticks: one that drives a
     // command directly is held from log tick to log tick (zero-order hold at the log rate).
     if (tick || t == next_log) m.refresh_references(m.t_of(t));
+    if (m.check_triggers(t)) m.apply_forces(t);  // a change published or referenced at t starts its forces at t
     m.apply_commands();
     if (t == next_log) {
       // Sensors are sampled at controller ticks only, so that what a controller sees
@@ -507,7 +564,7 @@ Log Simulation::run(const std::function<void(double)>& on_progress) {
     }
     m.advance_thermal(m.t_of(next - t));
     t = next;
-    m.apply_forces(m.t_of(t));
+    m.apply_forces(t);
     m.refresh_true();
     if (m.is_down()) {  // log this instant, then end
       m.down = true;

@@ -87,6 +87,36 @@ TEST(BalanceScenario, MistakesInTheBalanceMapAreLocated) {
   }
 }
 
+// A push started by the second touch-down (balance.touch_downs' second change) 0.1 s
+// later: the balance experiment finds it where the log says it started, 0.1 s after the
+// touch-down it followed (within the 5 ms log interval), 0.2 s long, 20 N forwards.
+TEST(BalanceScenario, APushTriggeredByATouchDownIsFoundWhereItStarted) {
+  Scenario s = load_scenario(std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/balance.yaml");
+  VariantSetup& v = s.variants[1];  // ideal_joints
+  ASSERT_EQ(v.name, "ideal_joints");
+  ForceSpec push;
+  push.link = "torso";
+  push.source.kind = Source::Kind::Steps;
+  push.source.steps = {{0.0, 20.0}, {0.2, 0.0}};
+  push.trigger = ForceSpec::Trigger{"balance.touch_downs", 2, 0.1};
+  v.forces = {push};
+  RunOptions o;
+  o.duration_s = 6.0;
+  const VariantResult r = run_variant(s, v, o);
+  const double start = r.log.column("forces.0.start_s").back();
+  const auto& td = r.log.column("balance.touch_downs");
+  double second = NAN;
+  for (std::size_t k = 0; k < td.size() && std::isnan(second); ++k)
+    if (td[k] >= 2) second = r.log.time()[k];
+  std::printf("second touch-down logged at %.3f s, push from %.3f s\n", second, start);
+  EXPECT_NEAR(start, second + 0.1, 0.005 + 1e-9);
+  const nlohmann::json pushes = evaluate_experiment(s, {r}).metrics.at("balance").at("ideal_joints").at("pushes");
+  ASSERT_EQ(pushes.size(), 1u);
+  EXPECT_DOUBLE_EQ(pushes[0].at("start_s").get<double>(), start);
+  EXPECT_NEAR(pushes[0].at("duration_s").get<double>(), 0.2, 1e-9);
+  EXPECT_DOUBLE_EQ(pushes[0].at("force_N").get<double>(), 20.0);
+}
+
 // With nothing holding it the robot folds and drops: the run ends once the torso is
 // below 0.5 m, well before its 5 s; base.vz is the torso's falling speed (the finite
 // difference of base.z to 2 % over one 5 ms log step).

@@ -95,6 +95,18 @@ struct ForceSpec {
   Eigen::Vector3d direction_W = Eigen::Vector3d::UnitX();  // world frame, not normalised: its length scales f
   Source source;                                           // the magnitude against time, N
   std::string where = {};  // as ReferenceSpec::where
+  // A force started by an event on the bus (`trigger`; none: the source runs on the
+  // simulation's clock): the bus signal's occurrence-th change (a controller's counter,
+  // e.g. balance.touch_downs), seen at the event it is published at, starts the source
+  // after_s later, at T; the force is 0 before T and source(t - T) from T on (held between
+  // events, as every force). T is logged as "forces.K.start_s" (K: the force's index;
+  // NaN until it is known). A signal that is not on the bus is an InputError.
+  struct Trigger {
+    std::string signal;
+    int occurrence = 1;  // >= 1
+    double after_s = 0;  // >= 0
+  };
+  std::optional<Trigger> trigger = {};
 };
 
 // A start-up support for a floating base (the authors' balancing simulation held the
