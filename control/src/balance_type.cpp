@@ -9,6 +9,7 @@
 #include "builtin_types.hpp"
 #include "dmbd/base/error.hpp"
 #include "dmbd/control/balance_controller.hpp"
+#include "dmbd/wholebody/phase_machine.hpp"
 
 namespace dmbd::control::detail {
 
@@ -192,6 +193,15 @@ class BalanceType : public BusControllerType {
       throw InputError(b.where + ": " + b.name + ": balancing needs the robot's base floating (robot.base: floating)");
     if (!c.contact) throw InputError(b.where + ": " + b.name + ": balancing needs ground contact (robot.contact: true)");
     return std::make_shared<BalanceController>(c.robot, c.gravity_m_s2, c.actuators, c.q0, b, ticks_over(c.duration_s, b.rate_hz));
+  }
+
+  // The phase by its name in the frame's text, and the planned foothold on the ground.
+  std::vector<sim::Overlay> overlays(const BusControllerOptions& o) const override {
+    const std::string& n = o.name;
+    sim::Overlay phase{"phase", {n + ".phase", "", ""}, {255, 255, 255}, false, 0.0, sim::Overlay::Kind::Text, {}};
+    for (int k = 0; k <= static_cast<int>(wholebody::Phase::WeightShift); ++k) phase.value_names.emplace_back(wholebody::to_string(static_cast<wholebody::Phase>(k)));
+    sim::Overlay foothold{"planned foothold", {n + ".foothold_x", n + ".foothold_y", ""}, {255, 140, 0}, false, 0.0, sim::Overlay::Kind::Marker, {}};
+    return {phase, foothold};
   }
 };
 

@@ -70,8 +70,8 @@ class OscType : public BusControllerType {
   // shows between the target's dashes where they coincide.
   std::vector<sim::Overlay> overlays(const BusControllerOptions& o) const override {
     const std::string& n = o.name;
-    sim::Overlay measured{"measured", {n + ".x", n + ".y", n + ".z"}, {255, 40, 200}, false, 2.0};
-    sim::Overlay desired{"desired", {n + ".x_d", n + ".y_d", n + ".z_d"}, {0, 190, 255}, true, 2.0};
+    sim::Overlay measured{"measured", {n + ".x", n + ".y", n + ".z"}, {255, 40, 200}, false, 2.0, sim::Overlay::Kind::Path, {}};
+    sim::Overlay desired{"desired", {n + ".x_d", n + ".y_d", n + ".z_d"}, {0, 190, 255}, true, 2.0, sim::Overlay::Kind::Path, {}};
     return {measured, desired};
   }
 };

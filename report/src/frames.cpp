@@ -48,13 +48,14 @@ struct PoseColumns {
     int force;
   };
   std::vector<Contact> contacts;
-  // The paths the variant's bus controllers and experiment declare (sim::Overlay), each
-  // with the columns of its three signals; drawn only when all three were logged.
+  // What the variant's bus controllers and experiment declare (sim::Overlay: paths,
+  // markers, text), each with the columns of its signals (-1: an empty signal, 0); drawn
+  // only when every named signal was logged.
   struct Path {
     sim::Overlay overlay;
     std::array<int, 3> column;
   };
-  std::vector<Path> paths;
+  std::vector<Path> paths, markers, texts;
 };
 
 bool one_dof(model::JointType t) {
@@ -92,14 +93,34 @@ PoseColumns pose_columns(const model::RobotDescription& robot, const sim::Varian
     if (c.base < 0) throw InputError(file + ": variant '" + r.name + "' logged no 'base.x': its frames cannot be drawn");
   }
   for (const sim::Overlay& o : overlays) {
-    const std::array<int, 3> col{r.log.find(o.signals[0]), r.log.find(o.signals[1]), r.log.find(o.signals[2])};
-    if (std::all_of(col.begin(), col.end(), [](int k) { return k >= 0; })) c.paths.push_back({o, col});
+    std::array<int, 3> col{-1, -1, -1};
+    bool logged = true;
+    for (int k = 0; k < 3; ++k)
+      if (!o.signals[static_cast<std::size_t>(k)].empty()) {
+        col[static_cast<std::size_t>(k)] = r.log.find(o.signals[static_cast<std::size_t>(k)]);
+        logged = logged && col[static_cast<std::size_t>(k)] >= 0;
+      }
+    if (!logged) continue;
+    auto& list = o.kind == sim::Overlay::Kind::Path ? c.paths : o.kind == sim::Overlay::Kind::Marker ? c.markers : c.texts;
+    list.push_back({o, col});
   }
   add_contacts(robot, r, file, c);
   return c;
 }
 
-double at(const sim::Log& log, int column, std::size_t row) { return log.column(column)[row]; }
+double at(const sim::Log& log, int column, std::size_t row) { return column < 0 ? 0.0 : log.column(column)[row]; }
+
+Eigen::Vector3d point_at(const sim::Log& log, const std::array<int, 3>& column, std::size_t row) {
+  return {at(log, column[0], row), at(log, column[1], row), at(log, column[2], row)};
+}
+
+// A Text overlay's line: "LABEL: NAME" for a value with a name, else "LABEL: VALUE".
+std::string text_of(const sim::Overlay& o, double v) {
+  const double k = std::round(v);
+  if (std::isfinite(v) && k >= 0 && k < static_cast<double>(o.value_names.size()) && std::abs(v - k) < 1e-9)
+    return o.label + ": " + o.value_names[static_cast<std::size_t>(k)];
+  return fmt::format("{}: {:.4g}", o.label, v);
+}
 
 // R = Rz(yaw) Ry(pitch) Rx(roll), as the simulation logs it.
 Eigen::Isometry3d base_pose(const sim::Log& log, const PoseColumns& c, std::size_t row) {
@@ -133,10 +154,12 @@ void add_paths(const sim::Log& log, const PoseColumns& c, std::size_t row, viz::
     path.color = viz::Color{p.overlay.rgb[0], p.overlay.rgb[1], p.overlay.rgb[2]};
     path.dashed = p.overlay.dashed;
     path.label = p.overlay.label;
-    for (std::size_t i = first; i <= row; ++i)
-      path.points_W.emplace_back(at(log, p.column[0], i), at(log, p.column[1], i), at(log, p.column[2], i));
+    for (std::size_t i = first; i <= row; ++i) path.points_W.push_back(point_at(log, p.column, i));
     o.paths.push_back(std::move(path));
   }
+  for (const auto& m : c.markers)
+    o.markers.push_back({point_at(log, m.column, row), viz::Color{m.overlay.rgb[0], m.overlay.rgb[1], m.overlay.rgb[2]}, 0.06, m.overlay.label});
+  for (const auto& x : c.texts) o.text_lines.push_back(text_of(x.overlay, at(log, x.column[0], row)));
 }
 
 viz::Overlays overlays(const model::RobotDescription& robot, const sim::Log& log, const PoseColumns& c, std::size_t row,
@@ -252,10 +275,18 @@ Table table_under(const viz::Scene& robot_scene, const std::vector<Eigen::Isomet
   return t;
 }
 
-// A three-quarter view from the front left that frames the robot's bounds, unless the
-// scenario or the options give the camera.
-viz::Camera make_camera(const scenario::FrameSetup& f, const ReportOptions& o, const viz::Scene& scene,
-                        const std::vector<Eigen::Isometry3d>& X, int w, int h) {
+// The robot's bounds over every frame's pose (a robot that rises or walks stays in view).
+Eigen::AlignedBox3d robot_bounds(const model::RobotDescription& robot, const sim::Log& log, const PoseColumns& c, std::size_t n,
+                                 const viz::Scene& scene) {
+  Eigen::AlignedBox3d b;
+  for (std::size_t row = 0; row < log.rows(); row += n) b.extend(viz::scene_bounds(scene, link_poses(robot, log, c, row)));
+  return b;
+}
+
+// A three-quarter view from the front left that frames the robot's bounds over the run,
+// unless the scenario or the options give the camera.
+template <class Bounds>
+viz::Camera make_camera(const scenario::FrameSetup& f, const ReportOptions& o, const Bounds& bounds, int w, int h) {
   viz::Camera cam;
   cam.width_px = w;
   cam.height_px = h;
@@ -266,7 +297,7 @@ viz::Camera make_camera(const scenario::FrameSetup& f, const ReportOptions& o, c
     cam.look_at = *look;
     return cam;
   }
-  const Eigen::AlignedBox3d b = viz::scene_bounds(scene, X);
+  const Eigen::AlignedBox3d b = bounds();
   const double size = std::max(b.diagonal().norm(), 0.6);
   cam.look_at = b.center();
   cam.position = b.center() + 1.5 * size * Eigen::Vector3d(0.62, -0.70, 0.35).normalized();
@@ -327,15 +358,14 @@ Frames write_frames(const scenario::ScenarioRun& run, const std::string& dir, co
   out.speedup = step.speedup;
   fs::create_directories(fs::path(dir) / "frames");
   viz::VideoWriter video((fs::path(dir) / "video.mp4").string(), out.video_fps);
-  std::optional<viz::Camera> cam;
+  const viz::Camera cam = make_camera(s.frames, options, [&] { return robot_bounds(robot, r->log, cols, n, scene); }, w, h);
   for (std::size_t row = 0; row < r->log.rows(); row += n) {
     const auto X = link_poses(robot, r->log, cols, row);
-    if (!cam) cam = make_camera(s.frames, options, scene, X, w, h);
     std::vector<Eigen::Isometry3d> X_drawn = X;
     if (table) X_drawn.push_back(table->X_WT);
     const auto t0 = std::chrono::steady_clock::now();
     const cv::Mat& img =
-        renderer.render(X_drawn, *cam, overlays(robot, r->log, cols, row, X, s.name + "  |  " + out.variant));
+        renderer.render(X_drawn, cam, overlays(robot, r->log, cols, row, X, s.name + "  |  " + out.variant));
     out.render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string name = fmt::format("frames/frame_{:05d}.png", out.frames.size());
     write_file_atomic((fs::path(dir) / name).string(), viz::encode_png(img));

@@ -17,6 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "dmbd/control/balance_controller.hpp"
 #include "dmbd/control/osc_controller.hpp"
 #include "sim_test_support.hpp"
 #include "dmbd/report/report.hpp"
@@ -169,6 +170,56 @@ TEST(ReportFrames, FixedBaseStandsOnATableFloatingBaseDoesNot) {
     // Wood right under the torso's projection (within 100 px of its column).
     EXPECT_GT(cv::countNonZero(wood(cv::Rect(int(torso.x()) - 100, int(torso.y()), 200, 360 - int(torso.y())))), 500);
   }
+}
+
+// The balancing controller's overlays: the planned foothold, marked on the ground in
+// orange ((255, 140, 0)) around the logged point, and the phase by its name as a third
+// line of the frame's text panel (the panel one text line taller). The columns are added
+// to a real run's log (a foothold at (-0.2, 0.5), phase 4: swing).
+TEST(ReportFrames, TheBalancingControllersFootholdAndPhase) {
+  TempDir dir;
+  auto run = short_run(dir, "bal", true);
+  const auto plain_page = dmbd::report::write_report(run, dir.file("bal"));
+  ASSERT_EQ(plain_page.frames, 2);
+  const cv::Mat plain = cv::imread(dir.file("bal") + "/frames/frame_00001.png", cv::IMREAD_COLOR);
+  for (auto& v : run.scenario.variants) v.bus_controllers.push_back(std::make_shared<dmbd::control::BalanceSetup>());
+  const dmbd::sim::Log& old = run.runs[0].log;
+  dmbd::sim::Log log;
+  for (std::size_t c = 1; c < old.columns(); ++c) log.add_column(old.name(int(c)), old.unit(int(c)));
+  const int phase = log.add_column("balance.phase", "");
+  const int fx = log.add_column("balance.foothold_x", "m");
+  log.add_column("balance.foothold_y", "m");
+  for (std::size_t r = 0; r < old.rows(); ++r) {
+    log.begin_row(old.time()[r]);
+    for (std::size_t c = 1; c < old.columns(); ++c) log.set(int(c), old.column(int(c))[r]);
+    log.set(phase, 4.0);
+    log.set(fx, -0.2);
+    log.set(fx + 1, 0.5);
+  }
+  run.runs[0].log = log;
+  ASSERT_EQ(dmbd::report::write_report(run, dir.file("bal")).frames, 2);
+  const cv::Mat frame = cv::imread(dir.file("bal") + "/frames/frame_00001.png", cv::IMREAD_COLOR);
+  const dmbd::viz::Camera cam = test_camera();
+  const cv::Vec3b orange(0, 140, 255);  // BGR
+  int on_ring = 0;
+  for (int i = 0; i < 36; ++i) {
+    const double a = 2 * M_PI * i / 36;
+    const Eigen::Vector2d uv = *dmbd::viz::project(cam, Eigen::Vector3d(-0.2 + 0.06 * std::cos(a), 0.5 + 0.06 * std::sin(a), 0));
+    ASSERT_TRUE(uv.x() > 2 && uv.x() < 637 && uv.y() > 2 && uv.y() < 357) << uv.transpose();
+    bool hit = false;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) hit = hit || frame.at<cv::Vec3b>(int(uv.y()) + dr, int(uv.x()) + dc) == orange;
+    on_ring += hit;
+  }
+  EXPECT_GT(on_ring, 30);  // the ring's 6 cm around the foothold (the robot may hide a few points)
+  // The text panel (top-left, the sky darkened to 45 % behind it): one line taller with
+  // the phase.
+  const auto panel_rows = [](const cv::Mat& img) {
+    int rows = 0;
+    for (int r = 0; r < img.rows / 3; ++r) rows += img.at<cv::Vec3b>(r, 10)[1] < 130;
+    return rows;
+  };
+  EXPECT_GT(panel_rows(frame), panel_rows(plain) + 10) << panel_rows(frame) << " vs " << panel_rows(plain);
 }
 
 // A log with the operational space controller's six columns (osc.x_d ... osc.z) gets

@@ -619,6 +619,45 @@ TEST(PathOverlay, LabelGoesIntoTheLegend) {
   EXPECT_GT(sample, 20);  // a 2 px wide line at least 24 px long
 }
 
+// A marker: its colour on the ring (a point ring_m from its centre in the horizontal
+// plane) and at its centre (the cross), nothing far from it; a labelled one gets a legend
+// entry in the top-right corner in its colour; one at a non-finite point draws nothing.
+TEST(MarkerOverlay, RingAndCrossWhereProjectedAndALegendEntry) {
+  const Camera cam = camera({2.5, 1.8, 1.4}, {0, 0, 0.5});
+  Renderer renderer(kW, kH);
+  renderer.set_scene(Scene{});
+  const cv::Mat base = renderer.render({}, cam).clone();
+  MarkerOverlay m;
+  m.p_W = Eigen::Vector3d(0.1, -0.2, 0.0);
+  m.color = {255, 0, 255};
+  m.ring_m = 0.1;
+  Overlays o;
+  o.markers.push_back(m);
+  const cv::Mat img = renderer.render({}, cam, o).clone();
+  auto coloured_near = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector2d uv = *project(cam, p);
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc)
+        if (img.at<cv::Vec3b>(int(uv.y()) + dr, int(uv.x()) + dc) == cv::Vec3b(255, 0, 255)) return true;
+    return false;
+  };
+  EXPECT_TRUE(coloured_near(m.p_W));                                    // the cross
+  EXPECT_TRUE(coloured_near(m.p_W + Eigen::Vector3d(0.1, 0, 0)));        // the ring
+  EXPECT_TRUE(coloured_near(m.p_W + Eigen::Vector3d(0, 0.1, 0)));
+  EXPECT_FALSE(coloured_near(m.p_W + Eigen::Vector3d(0.3, 0.3, 0)));     // not far from it
+  const cv::Rect corner(kW / 2, 0, kW / 2, kH / 4);
+  EXPECT_EQ(cv::norm(img(corner), base(corner), cv::NORM_INF), 0.0);  // unlabelled: no legend
+  o.markers[0].label = "planned foothold";
+  const cv::Mat labelled = renderer.render({}, cam, o).clone();
+  int legend = 0;
+  for (int r = corner.y; r < corner.y + corner.height; ++r)
+    for (int c = corner.x; c < corner.x + corner.width; ++c) legend += labelled.at<cv::Vec3b>(r, c) == cv::Vec3b(255, 0, 255);
+  EXPECT_GT(legend, 5);
+  o.markers[0].p_W = Eigen::Vector3d(NAN, 0, 0);
+  o.markers[0].label.clear();
+  EXPECT_EQ(cv::norm(renderer.render({}, cam, o), base, cv::NORM_INF), 0.0);
+}
+
 // ---------------------------------------------------------------------------------
 // Ground and background.
 

@@ -1328,6 +1328,28 @@ void Renderer::draw_overlays(const Camera& camera, const Overlays& ov) {
     }
   }
 
+  // Markers: a ring in the horizontal plane through the point and a cross, over a halo.
+  for (const MarkerOverlay& m : ov.markers) {
+    if (!m.p_W.allFinite()) continue;
+    constexpr int kSeg = 32;
+    for (int pass = 0; pass < 2; ++pass) {
+      const Rgbf col = pass == 0 ? black : rgbf(m.color);
+      const double half = pass == 0 ? 0.5 * w + 1.0 : 0.5 * w;
+      const float alpha = pass == 0 ? 0.35f : 1.0f;
+      for (int i = 0; i < kSeg; ++i) {
+        const double t0 = 2 * M_PI * i / kSeg, t1 = 2 * M_PI * (i + 1) / kSeg;
+        Eigen::Vector2d a, b;
+        if (project_segment(camera, X_CW, f, m.p_W + m.ring_m * Eigen::Vector3d(std::cos(t0), std::sin(t0), 0),
+                            m.p_W + m.ring_m * Eigen::Vector3d(std::cos(t1), std::sin(t1), 0), a, b))
+          draw_segment(cvs, a, b, half, col, alpha);
+      }
+      for (const Eigen::Vector3d& arm : {Eigen::Vector3d(0.5 * m.ring_m, 0, 0), Eigen::Vector3d(0, 0.5 * m.ring_m, 0)}) {
+        Eigen::Vector2d a, b;
+        if (project_segment(camera, X_CW, f, m.p_W - arm, m.p_W + arm, a, b)) draw_segment(cvs, a, b, half, col, alpha);
+      }
+    }
+  }
+
   // Force arrows: shaft and a filled head, with a dark halo for contrast.
   for (const ForceArrow& fa : ov.forces) {
     if (!fa.p_W.allFinite() || !fa.f_W_N.allFinite()) continue;
@@ -1439,6 +1461,11 @@ void Renderer::draw_overlays(const Camera& camera, const Overlays& ov) {
       ++n_entries;
       label_w = std::max(label_w, text_width(path.label));
     }
+  for (const MarkerOverlay& m : ov.markers)
+    if (!m.label.empty()) {
+      ++n_entries;
+      label_w = std::max(label_w, text_width(m.label));
+    }
   if (n_entries > 0) {
     const int sample_px = std::max(24, 2 * text_line_px_), gap = pad + 2;
     const int x_hi = width_ - margin, x_lo = x_hi - (2 * pad + sample_px + gap + label_w);
@@ -1452,6 +1479,16 @@ void Renderer::draw_overlays(const Camera& camera, const Overlays& ov) {
       draw_stroke(cvs, {x_lo + pad + 0.5 * w, y_mid}, {x_lo + pad + sample_px - 0.5 * w, y_mid}, 0.5 * w,
                   rgbf(path.color), 1.0f, path.dashed ? dash_on_px : 0.0, dash_off_px, phase);
       draw_text(x_lo + pad + sample_px + gap, pen_y, path.label, white);
+      ++li;
+    }
+    for (const MarkerOverlay& m : ov.markers) {  // a ring and a cross, as drawn
+      if (m.label.empty()) continue;
+      const int pen_y = margin + pad + text_ascent_px_ + li * text_line_px_;
+      const Eigen::Vector2d c(x_lo + pad + 0.5 * sample_px, pen_y - 0.5 * text_ascent_px_);
+      const double r = 0.3 * text_ascent_px_ + 1.0;
+      draw_ring(cvs, c, r, 0.5 * w, rgbf(m.color), 1.0f);
+      draw_segment(cvs, c - Eigen::Vector2d(r, 0), c + Eigen::Vector2d(r, 0), 0.5 * w, rgbf(m.color), 1.0f);
+      draw_text(x_lo + pad + sample_px + gap, pen_y, m.label, white);
       ++li;
     }
   }

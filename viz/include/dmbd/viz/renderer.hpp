@@ -114,12 +114,22 @@ struct PathOverlay {
                       // of the line in its colour and style, then the label (ASCII)
 };
 
+// A point marked where it is (a planned foothold): a ring of ring_m radius in the
+// horizontal plane through it and a cross at its centre, over a dark halo.
+struct MarkerOverlay {
+  Eigen::Vector3d p_W = Eigen::Vector3d::Zero();  // m, world
+  Color color{255, 140, 0};
+  double ring_m = 0.06;
+  std::string label;  // not empty: an entry in the legend (top-right corner), as a path's
+};
+
 struct Overlays {
   std::vector<std::string> text_lines;   // top-left corner, one per line, on a dark panel (ASCII)
   std::optional<Eigen::Vector3d> com_W;  // centre of mass: circled crosshair, a dashed drop line
                                          // and a ring on the ground at its projection (z = 0)
   std::vector<ForceArrow> forces;
   std::vector<PathOverlay> paths;      // drawn first, under the arrows and the CoM marker
+  std::vector<MarkerOverlay> markers;  // after the paths
   double force_scale_m_per_N = 0.001;  // arrow length in the world per newton
   double line_width_px = 2.0;          // arrows, CoM marker, paths
   Color com_color{255, 210, 0};
