@@ -8,7 +8,9 @@
 
 namespace dmbd::sim {
 
+// One thing drawn over the robot, from logged signals.
 struct Overlay {
+  // What is drawn.
   enum class Kind {
     Path,    // the point's path over the last window_s seconds up to the frame's sample;
              // samples that are not finite (none logged yet) break the line
@@ -22,7 +24,7 @@ struct Overlay {
   std::array<unsigned char, 3> rgb{255, 255, 255};  // its colour
   bool dashed = false;                      // Path: a dashed line (a target), else solid
   double window_s = 2.0;                    // Path: how much of the past it shows, s
-  Kind kind = Kind::Path;
+  Kind kind = Kind::Path;                   // a path, a marker or a text line
   // Text: the signal's value k (rounded, 0 <= k < size) shown as value_names[k] (a phase
   // machine's state by its name); empty, or out of range: the number itself.
   std::vector<std::string> value_names = {};

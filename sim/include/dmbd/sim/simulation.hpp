@@ -102,11 +102,11 @@ struct ForceSpec {
   // events, as every force). T is logged as "forces.K.start_s" (K: the force's index;
   // NaN until it is known). A signal that is not on the bus is an InputError.
   struct Trigger {
-    std::string signal;
+    std::string signal;  // the bus signal whose changes are counted
     int occurrence = 1;  // >= 1
     double after_s = 0;  // >= 0
   };
-  std::optional<Trigger> trigger = {};
+  std::optional<Trigger> trigger = {};  // none: the source runs on the simulation's clock
 };
 
 // A start-up support for a floating base (the authors' balancing simulation held the
