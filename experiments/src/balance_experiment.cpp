@@ -51,6 +51,7 @@ struct Params {
   double start_s, fall_height_m, fall_tilt_rad;
   std::string prefix;                        // the balancing controller's signals: its name and "."
   std::vector<std::string> winding_joints;   // whose winding temperatures are reported (`winding_joints`)
+  std::optional<detail::SwingLimits> reach;  // `swing_speed_max_m_s` and `swing_accel_max_m_s2`: the pushes' verdicts count the foot's reach
   const ExperimentSetup* setup = nullptr;    // its figure labels
 };
 
@@ -195,18 +196,19 @@ void find_pushes(const ForceSpec& f, const std::vector<double>& t, double t_end,
 // The pendulum's verdict at the push's end (push_capture.hpp) and the capture point's
 // shift by the push itself, F/(mω²)(e^{ωτ} − 1) with the horizontal part of F and the
 // robot's total mass.
-nlohmann::json push_lipm(const Run& run, const VariantFacts& v, const Push& p, const std::string& file) {
+nlohmann::json push_lipm(const Run& run, const VariantFacts& v, const Push& p, const std::optional<detail::SwingLimits>& reach,
+                         const std::string& file) {
   const auto mass = run.r.truth.find("total_mass_kg");
   const auto* balance = v.bus_controller<control::BalanceSetup>();
   if (!balance || mass == run.r.truth.end()) return nullptr;
-  nlohmann::json out = detail::push_capture(run.r, *balance, p.end_s, file);
+  nlohmann::json out = detail::push_capture(run.r, *balance, p.end_s, file, reach);
   if (out.is_null()) out = {{"capturable", nullptr}};  // the run ended before, or not stepping
   const double force = p.peak_N * p.direction.head<2>().norm();
   out["push_cp_shift_m"] = wholebody::push_capture_point_shift(force, p.end_s - p.start_s, mass->second, detail::pendulum_omega(*balance));
   return out;
 }
 
-nlohmann::json push_metrics(const Run& run, const VariantFacts& v, const std::string& file) {
+nlohmann::json push_metrics(const Run& run, const VariantFacts& v, const std::optional<detail::SwingLimits>& reach, const std::string& file) {
   std::vector<Push> pushes;
   for (std::size_t k = 0; k < v.forces.size(); ++k) {
     double start = 0.0;  // on the run's clock
@@ -226,7 +228,7 @@ nlohmann::json push_metrics(const Run& run, const VariantFacts& v, const std::st
                    {"force_N", p.peak_N},
                    {"direction", nlohmann::json::array({p.direction.x(), p.direction.y(), p.direction.z()})},
                    {"survived", survived},
-                   {"lipm", push_lipm(run, v, p, file)}});
+                   {"lipm", push_lipm(run, v, p, reach, file)}});
   }
   return out;
 }
@@ -248,7 +250,7 @@ void run_metrics(const Run& run, const Params& p, const VariantFacts& v, const s
     if (const auto it = run.r.timing_us.find(std::string("wbc_tick_us_") + stat); it != run.r.timing_us.end()) m["wbc_tick_us"][stat] = it->second;
   m["real_time_factor"] = run.r.real_time_factor;
   m["qp_failures"] = count(signal(run.r, run.prefix + "qp_failures", file).back());
-  m["pushes"] = push_metrics(run, v, file);
+  m["pushes"] = push_metrics(run, v, p.reach, file);
 }
 
 // ---------------------------------------------------------------- figures
@@ -433,8 +435,15 @@ std::string balance_prefix(const std::vector<VariantFacts>& variants) {
 
 ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) {
   Params p{detail::text_or(e, "leg", ""), detail::number_or(e, "start_s", 4.0), detail::number_or(e, "fall_height_m", 0.6),
-           detail::number_or(e, "fall_tilt_rad", 0.5), balance_prefix(variants), {}, &e};
+           detail::number_or(e, "fall_tilt_rad", 0.5), balance_prefix(variants), {}, std::nullopt, &e};
   if (const auto it = e.names.find("winding_joints"); it != e.names.end()) p.winding_joints = it->second;
+  if (e.number.count("swing_speed_max_m_s") != e.number.count("swing_accel_max_m_s2"))
+    throw InputError(e.file + ": experiment balance: give swing_speed_max_m_s and swing_accel_max_m_s2 together (the swing foot's reach)");
+  if (e.number.count("swing_speed_max_m_s")) {
+    p.reach = detail::SwingLimits{e.number.at("swing_speed_max_m_s"), e.number.at("swing_accel_max_m_s2")};
+    if (!(p.reach->speed_m_s > 0) || !(p.reach->accel_m_s2 > 0))
+      throw InputError(e.where.at("swing_speed_max_m_s") + ": experiment balance: the swing foot's speed and acceleration limits must be > 0");
+  }
   ExperimentResult res;
   std::vector<Run> analysed;
   for (std::size_t k = 0; k < runs.size(); ++k) {
@@ -472,6 +481,8 @@ class BalanceExperiment : public detail::FunctionExperiment {
                             {"fall_height_m", KeyKind::Number},
                             {"fall_tilt_rad", KeyKind::Number},
                             {"winding_joints", KeyKind::Joints},
+                            {"swing_speed_max_m_s", KeyKind::Number},
+                            {"swing_accel_max_m_s2", KeyKind::Number},
                             {"replay_scales", KeyKind::Numbers},
                             {"replay_duration_s", KeyKind::Number},
                             {"replay_from_s", KeyKind::Number},

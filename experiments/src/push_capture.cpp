@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "dmbd/wholebody/capture.hpp"
+#include "dmbd/wholebody/swing_reach.hpp"
 #include "experiment_support.hpp"
 
 namespace dmbd::experiments::detail {
@@ -56,7 +57,33 @@ double step_period_s(const control::BalanceSetup& b) {
   return b.phases.double_support_s + b.phases.lift_s + b.phases.swing_s + b.phases.landing_s;
 }
 
-nlohmann::json push_capture(const VariantResult& r, const control::BalanceSetup& b, double end_s, const std::string& file) {
+// The footholds the swing foot can land on (relative to the stance foot), per axis, from
+// its logged position and velocity (the difference to the sample before) at sample k;
+// its measured speed is held within the limit.
+std::pair<wholebody::Reach, wholebody::Reach> reach_at(const VariantResult& r, const BalanceSetup& b, std::size_t k, const PendingStep& p,
+                                                       const SwingLimits& lim, const std::string& file) {
+  const auto& t = r.log.time();
+  std::pair<wholebody::Reach, wholebody::Reach> out;
+  const char* axes[] = {".swing_x", ".swing_y"};
+  for (int a = 0; a < 2; ++a) {
+    const auto& x = signal(r, b.name + axes[a], file);
+    const double v = k > 0 ? (x[k] - x[k - 1]) / (t[k] - t[k - 1]) : 0.0;
+    const double x0 = x[k] - (a == 0 ? p.stance_x : p.stance_y);
+    const auto reach = wholebody::swing_reach(x0, std::clamp(v, -lim.speed_m_s, lim.speed_m_s), p.time_to_touch_down_s, lim.speed_m_s, lim.accel_m_s2);
+    (a == 0 ? out.first : out.second) = reach;
+  }
+  return out;
+}
+
+// The step's range within the foot's reach; false when they do not meet.
+bool within_reach(StepRange& step, const wholebody::Reach& reach) {
+  step.min_m = std::max(step.min_m, reach.lo_m);
+  step.max_m = std::min(step.max_m, reach.hi_m);
+  return step.min_m <= step.max_m;
+}
+
+nlohmann::json push_capture(const VariantResult& r, const control::BalanceSetup& b, double end_s, const std::string& file,
+                            const std::optional<SwingLimits>& limits) {
   const auto& t = r.log.time();
   const auto k = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), end_s - 1e-9) - t.begin());
   if (k >= t.size()) return nullptr;
@@ -72,21 +99,29 @@ nlohmann::json push_capture(const VariantResult& r, const control::BalanceSetup&
   const CaptureInterval next_x = wholebody::capture_intervals(w, T, {sx})[0];
   const CaptureInterval next_y = wholebody::capture_intervals(w, T, {p.left_swings ? left : right, p.left_swings ? right : left})[1];
   StepRange step_x = sx, step_y = p.left_swings ? left : right;
+  nlohmann::json reach_json = nlohmann::json::object();
+  bool reachable = true;
   if (p.fixed) {
     const double fx = signal(r, b.name + ".foothold_x", file)[k] - p.stance_x, fy = signal(r, b.name + ".foothold_y", file)[k] - p.stance_y;
     step_x = {fx, fx};
     step_y = {fy, fy};
+  } else if (limits && phase == Phase::Swing) {  // the foot is in the air: where it can still land
+    const auto [rx, ry] = reach_at(r, b, k, p, *limits, file);
+    reach_json = {{"reach_x_m", nlohmann::json::array({rx.lo_m, rx.hi_m})}, {"reach_y_m", nlohmann::json::array({ry.lo_m, ry.hi_m})}};
+    reachable = within_reach(step_x, rx) && within_reach(step_y, ry);
+  }
+  nlohmann::json out = {{"foothold_fixed", p.fixed}, {"time_to_touch_down_s", p.time_to_touch_down_s}, {"cp_offset_m", nlohmann::json::array({ex, ey})}};
+  if (limits) out["reachable"] = reachable;
+  out.update(reach_json);
+  if (!reachable) {  // no foothold within the step limits can be reached: no interval
+    out.update({{"capturable", false}, {"margin_m", nullptr}, {"interval_x_m", nullptr}, {"interval_y_m", nullptr}});
+    return out;
   }
   const CaptureInterval ix = wholebody::capture_interval_before(w, p.time_to_touch_down_s, step_x, next_x);
   const CaptureInterval iy = wholebody::capture_interval_before(w, p.time_to_touch_down_s, step_y, next_y);
   const double margin = std::min({ex - ix.lo_m, ix.hi_m - ex, ey - iy.lo_m, iy.hi_m - ey});
-  return {{"capturable", ix.contains(ex) && iy.contains(ey)},
-          {"margin_m", margin},
-          {"foothold_fixed", p.fixed},
-          {"time_to_touch_down_s", p.time_to_touch_down_s},
-          {"cp_offset_m", nlohmann::json::array({ex, ey})},
-          {"interval_x_m", pair(ix)},
-          {"interval_y_m", pair(iy)}};
+  out.update({{"capturable", ix.contains(ex) && iy.contains(ey)}, {"margin_m", margin}, {"interval_x_m", pair(ix)}, {"interval_y_m", pair(iy)}});
+  return out;
 }
 
 }  // namespace dmbd::experiments::detail

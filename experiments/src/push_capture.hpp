@@ -6,6 +6,7 @@
 // height, point feet, and the step in progress free until its mid-swing replan (then
 // fixed at its planned foothold). False: no sequence of steps within those limits and
 // timing could have kept this pendulum up, whatever the controller did next.
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -15,12 +16,23 @@
 
 namespace dmbd::experiments::detail {
 
+// The swing foot's limits (the balance experiment's swing_speed_max_m_s and
+// swing_accel_max_m_s2): with them, a free foothold counts only where the swinging foot
+// can still land in the time left (wholebody/swing_reach.hpp).
+struct SwingLimits {
+  double speed_m_s = 0, accel_m_s2 = 0;
+};
+
 // At the first log sample at or after end_s; null when there is none or the robot was
 // not stepping then. Fields: capturable, margin_m (the offsets' least distance inside
 // their intervals; negative outside), foothold_fixed, time_to_touch_down_s,
 // cp_offset_m [x, y] (capture point − stance foot), interval_x_m and interval_y_m
-// [lo, hi] (the capturable offsets). Throws InputError (naming file) for a missing signal.
-nlohmann::json push_capture(const sim::VariantResult& r, const control::BalanceSetup& b, double end_s, const std::string& file);
+// [lo, hi] (the capturable offsets); with `reach`, also reach_x_m and reach_y_m (the
+// footholds the swing foot can still land on, relative to the stance foot, while the
+// step is free) and reachable (some foothold within the step limits is; false: not
+// capturable). Throws InputError (naming file) for a missing signal.
+nlohmann::json push_capture(const sim::VariantResult& r, const control::BalanceSetup& b, double end_s, const std::string& file,
+                            const std::optional<SwingLimits>& reach = std::nullopt);
 
 // The pendulum's ω = √(g / h) and step period of a balance setup.
 double pendulum_omega(const control::BalanceSetup& b);

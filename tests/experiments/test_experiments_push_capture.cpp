@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "dmbd/base/error.hpp"
 #include "dmbd/control/balance_controller.hpp"
 #include "dmbd/experiments/experiment.hpp"
 #include "dmbd/scenario/evaluate.hpp"
@@ -48,7 +49,7 @@ const Interval kBx = sagittal(0.07, kFootholdX, kFootholdX), kBy = lateral(0.07,
 
 // ξ − stance at A: 1 mm inside x's interval (outside when `outside_a`); at B 1 mm beyond
 // its top. y mid-way in its interval at both.
-dmbd::sim::VariantResult log(bool outside_a) {
+dmbd::sim::VariantResult log(bool outside_a, double swing_y = 0.25) {
   dmbd::sim::VariantResult r;
   r.name = "v";
   r.truth["total_mass_kg"] = kMass;
@@ -66,7 +67,7 @@ dmbd::sim::VariantResult log(bool outside_a) {
     set("base.z", 0.9);
     set("balance.phase", t < 0.01 - 1e-9 ? 2 : t < 0.04 - 1e-9 ? 3 : t < 0.37 - 1e-9 ? 4 : 5);  // DS, lift, swing, landing
     set("balance.swing_x", -0.05);
-    set("balance.swing_y", 0.25);
+    set("balance.swing_y", swing_y);
     set("balance.foothold_x", kFootholdX);
     set("balance.foothold_y", kFootholdY);
     // The capture point ξ = com + v/ω: the CoM at 0.02 m, its velocity making ξ the target.
@@ -142,6 +143,57 @@ TEST(SimPushCapture, TheShiftOfThePushItself) {
   const auto res = dmbd::scenario::evaluate_experiment(scenario(), {log(false)});
   const double expected = 100.0 / (kMass * kOmega * kOmega) * (std::exp(kOmega * 0.004) - 1.0);
   EXPECT_NEAR(pushes(res)[0].at("lipm").at("push_cp_shift_m").get<double>(), expected, 1e-9);
+}
+
+// A push ending 0.10 s into the run, 0.06 s into the swing (before the mid-swing
+// replan: the foothold is free), 0.27 s before touch-down, with the swing foot's limits
+// 0.5 m/s and 5 m/s²: the foot at rest at (−0.05, 0.25) can still land within 0.085 m
+// of where it is (0.1 s up to 0.5 m/s, 0.07 s at it, 0.1 s down), so the step's ranges
+// shrink to x in [−0.135, 0.035] and y in [0.20, 0.335] (the lateral limit's 0.20 m
+// inside the reach's 0.165), and the intervals with them.
+dmbd::scenario::Scenario scenario_with_reach(double speed, double accel) {
+  dmbd::scenario::Scenario s = scenario();
+  s.variants[0].forces.resize(1);
+  s.variants[0].forces[0].source.steps = {{0.096, 100.0}, {0.100, 0.0}};
+  s.experiment.number["swing_speed_max_m_s"] = speed;
+  s.experiment.number["swing_accel_max_m_s2"] = accel;
+  return s;
+}
+
+TEST(SimPushCapture, TheSwingFootsReachNarrowsAFreeStep) {
+  const auto res = dmbd::scenario::evaluate_experiment(scenario_with_reach(0.5, 5.0), {log(false)});
+  const auto& l = pushes(res).at(0).at("lipm");
+  EXPECT_FALSE(l.at("foothold_fixed").get<bool>());
+  EXPECT_NEAR(l.at("time_to_touch_down_s").get<double>(), 0.27, 1e-9);
+  EXPECT_TRUE(l.at("reachable").get<bool>());
+  expect_interval(l.at("reach_x_m"), {-0.135, 0.035}, "reach x");
+  expect_interval(l.at("reach_y_m"), {0.165, 0.335}, "reach y");
+  expect_interval(l.at("interval_x_m"), sagittal(0.27, -0.135, 0.035), "x within reach");
+  expect_interval(l.at("interval_y_m"), lateral(0.27, 0.20, 0.335), "y within reach");
+  // ξ sits 1 mm inside the unlimited interval's top at 0.365 s, far beyond the reach's.
+  EXPECT_FALSE(l.at("capturable").get<bool>());
+  // Without the limits the same push is judged on the whole step range.
+  dmbd::scenario::Scenario unlimited = scenario_with_reach(0.5, 5.0);
+  unlimited.experiment.number.erase("swing_speed_max_m_s");
+  unlimited.experiment.number.erase("swing_accel_max_m_s2");
+  const auto unlimited_res = dmbd::scenario::evaluate_experiment(unlimited, {log(false)});
+  const auto& u = pushes(unlimited_res).at(0).at("lipm");
+  EXPECT_FALSE(u.contains("reachable"));
+  expect_interval(u.at("interval_x_m"), sagittal(0.27, -0.4, 0.4), "x, no reach");
+}
+
+TEST(SimPushCapture, AFootThatCannotReachAnyAllowedFootholdIsNotCapturable) {
+  // The foot at y = 0.10 with 0.05 m/s at most: it lands within 0.013 m of it, short of
+  // the 0.20 m the lateral limit asks.
+  const auto res = dmbd::scenario::evaluate_experiment(scenario_with_reach(0.05, 5.0), {log(false, 0.10)});
+  const auto& l = pushes(res).at(0).at("lipm");
+  EXPECT_FALSE(l.at("reachable").get<bool>());
+  EXPECT_FALSE(l.at("capturable").get<bool>());
+  EXPECT_TRUE(l.at("interval_y_m").is_null());
+  // Only one of the two limits is a located mistake of the scenario.
+  dmbd::scenario::Scenario half = scenario_with_reach(0.5, 5.0);
+  half.experiment.number.erase("swing_accel_max_m_s2");
+  EXPECT_THROW(dmbd::scenario::evaluate_experiment(half, {log(false)}), dmbd::InputError);
 }
 
 }  // namespace

@@ -87,6 +87,37 @@ TEST(BalanceScenario, MistakesInTheBalanceMapAreLocated) {
   }
 }
 
+// The balance experiment's damping replay keys: a list that is not of numbers is located
+// when the scenario is read; a negative factor, or no winding_joints to replay, before
+// the run starts, at the key's line.
+TEST(BalanceScenario, TheDampingReplayKeysAreChecked) {
+  dmbd::sim::test::TempDir dir;
+  const std::string path = dir.file("b.yaml");
+  const std::string head = "name: b\nrobot: {name: draco, base: floating, contact: true, actuators: all}\nduration_s: 0.01\n"
+                           "bus_controllers: [{type: balance}]\nexperiment:\n  type: balance\n";
+  dmbd::sim::test::write_text(path, head + "  winding_joints: [l_knee]\n  replay_scales: [0.1, lots]\n");
+  try {
+    load_scenario(path);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("b.yaml:8:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("experiment.replay_scales"), std::string::npos) << e.what();
+  }
+  for (const auto& [keys, what] : {std::pair<std::string, std::string>{"  winding_joints: [l_knee]\n  replay_scales: [0.1, -1]\n",
+                                                                       "expected factors >= 0, got -1"},
+                                   {"  replay_scales: [0.5]\n", "expected winding_joints too"}}) {
+    dmbd::sim::test::write_text(path, head + keys);
+    const Scenario s = load_scenario(path);
+    try {
+      run_variant(s, s.variants[0], {});
+      ADD_FAILURE() << "no error: " << keys;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("b.yaml:"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A push started by the second touch-down (balance.touch_downs' second change) 0.1 s
 // later: the balance experiment finds it where the log says it started, 0.1 s after the
 // touch-down it followed (within the 5 ms log interval), 0.2 s long, 20 N forwards.
