@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/base/strings.hpp"
 #include "dmbd/experiments/sampled_interval.hpp"
 
 namespace dmbd::scenario::detail {
@@ -49,7 +50,10 @@ std::string pointer_token(const std::string& name) {
   return out;
 }
 
-double value_of(const Scenario& s, const SweepPlotSetup& p, const SweepCurve& c, const std::string& run, const nlohmann::json& metrics) {
+// The curve's value for a run (scaled); NaN when the pointer finds nothing (`missing` set:
+// the run did not get that far, or the pointer is misspelt: add_sweep_plots tells which).
+double value_of(const Scenario& s, const SweepPlotSetup& p, const SweepCurve& c, const std::string& run, const nlohmann::json& metrics,
+                bool& missing) {
   std::string ptr = c.metric;
   for (std::size_t at; (at = ptr.find("{run}")) != std::string::npos;) ptr.replace(at, 5, pointer_token(run));
   const std::string where = fmt::format("{}: sweep_plot '{}' ({}): metric {} of run '{}'", s.file, p.file, p.where, ptr, run);
@@ -59,7 +63,8 @@ double value_of(const Scenario& s, const SweepPlotSetup& p, const SweepCurve& c,
   } catch (const nlohmann::json::exception&) {
     throw InputError(where + ": not a valid JSON pointer");
   }
-  if (!metrics.contains(jp)) throw InputError(where + ": metrics.json has no such value");
+  missing = !metrics.contains(jp);
+  if (missing) return NAN;
   const nlohmann::json& v = metrics.at(jp);
   if (v.is_null()) return NAN;  // a figure the experiment could not compute
   if (!v.is_number()) throw InputError(where + ": expected a number, got " + v.dump());
@@ -117,6 +122,8 @@ void add_sweep_plots(const Scenario& s, experiments::ExperimentResult& res) {
   for (const SweepPlotSetup& p : s.sweep_plots) {
     const std::vector<Line> lines = lines_of(s, p.axis);
     std::vector<std::vector<std::vector<double>>> y(lines.size());  // [line][curve][point]
+    std::map<std::string, std::vector<std::string>> missing_in;      // curve's pointer -> runs without a value
+    std::map<std::string, std::size_t> asked;
     nlohmann::json entry = {{"axis", p.axis}, {"lines", nlohmann::json::object()}};
     for (std::size_t l = 0; l < lines.size(); ++l) {
       std::vector<double> x;
@@ -127,8 +134,11 @@ void add_sweep_plots(const Scenario& s, experiments::ExperimentResult& res) {
       for (const SweepCurve& c : p.curves) {
         std::vector<double> ys;
         for (std::size_t k = 0; k < runs.size(); ++k) {
-          ys.push_back(value_of(s, p, c, runs[k], res.metrics));
+          bool missing = false;
+          ys.push_back(value_of(s, p, c, runs[k], res.metrics, missing));
           holds[k] = holds[k] && meets(c, ys.back());
+          if (missing) missing_in[c.metric].push_back(runs[k]);
+          ++asked[c.metric];
         }
         curves[c.label] = ys;
         y[l].push_back(ys);
@@ -139,6 +149,15 @@ void add_sweep_plots(const Scenario& s, experiments::ExperimentResult& res) {
       res.notes.push_back(fmt::format("Sweep {} ({}): {} over {}: {}.", p.file, name, p.title.empty() ? "the conditions" : p.title, p.axis,
                                       line["verdict"].get<std::string>()));
       entry["lines"][name] = line;
+    }
+    // A pointer that finds nothing in any run is a mistake; in some runs, those runs did
+    // not get there (a robot that fell has no replay): their points fail, and say so.
+    for (const auto& [metric, runs] : missing_in) {
+      if (runs.size() == asked[metric])
+        throw InputError(fmt::format("{}: sweep_plot '{}' ({}): metric {}: metrics.json has no such value for any run", s.file, p.file, p.where,
+                                     metric));
+      res.warnings.push_back(fmt::format("sweep_plot '{}': metric {} has no value for run(s) {}: taken as not meeting its condition", p.file,
+                                         metric, join(runs)));
     }
     res.metrics["sweeps"][std::filesystem::path(p.file).stem().string()] = entry;
     res.figures.emplace_back(p.file, figure_of(p, lines, y));

@@ -153,8 +153,41 @@ TEST(SweepPlots, APointerThatFindsNothingNamesTheRunAndTheEntry) {
     FAIL() << "no error";
   } catch (const dmbd::InputError& e) {
     EXPECT_EQ(std::string(e.what()), dir.file("s.yaml") + ": sweep_plot 'd.png' (" + dir.file("s.yaml") +
-                                         ":14:5): metric /e/a~1p of run 'a/p': metrics.json has no such value");
+                                         ":14:5): metric /e/{run}: metrics.json has no such value for any run");
   }
+}
+
+// A run without the value (a robot that fell before its figure): its point fails its
+// condition, drawn as a gap, and a warning names the run.
+TEST(SweepPlots, ARunWithoutTheValueFailsAndIsNamed) {
+  register_once();
+  TempDir dir;
+  std::string sweep = kSweep;
+  sweep.replace(sweep.find("/d/{run}"), 8, "/e/{run}");
+  write_text(dir.file("s.yaml"), scenario(sweep));
+  const sc::Scenario s = sc::load_scenario(dir.file("s.yaml"));
+  auto runs = runs_of(s);
+  // The experiment's metrics, and an "e" value for every run but c/p.
+  class Partial : public Duration {
+   public:
+    dmbd::experiments::ExperimentResult evaluate(const dmbd::experiments::ExperimentSetup& e, const std::vector<dmbd::sim::VariantResult>& r,
+                                                 const std::vector<dmbd::experiments::VariantFacts>& f) const override {
+      auto res = Duration::evaluate(e, r, f);
+      for (const auto& v : f)
+        if (v.name != "c/p") res.metrics["e"][v.name] = res.metrics["d"][v.name];
+      return res;
+    }
+  };
+  if (!dmbd::experiments::find_experiment("partial_metric"))
+    dmbd::experiments::register_experiment("partial_metric", std::make_shared<Partial>());
+  sc::Scenario partial = s;
+  partial.experiment.type = "partial_metric";
+  const auto res = sc::evaluate_experiment(partial, runs);
+  const auto& p = res.metrics["sweeps"]["d"]["lines"]["p"];
+  EXPECT_EQ(p["holds"], (std::vector<bool>{true, true, false, false}));
+  EXPECT_TRUE(p["curves"]["duration (ms)"][2].is_null() || std::isnan(p["curves"]["duration (ms)"][2].get<double>()));
+  ASSERT_EQ(res.warnings.size(), 1u);
+  EXPECT_EQ(res.warnings[0], "sweep_plot 'd.png': metric /e/{run} has no value for run(s) c/p: taken as not meeting its condition");
 }
 
 TEST(SweepPlots, MistakesInTheEntryAreLocated) {
