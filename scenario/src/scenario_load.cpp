@@ -414,8 +414,8 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   if (!root.IsMap()) rd.rd.fail(Location{path, 1, 1}, "a scenario is a map (name, robot, controllers, ...)");
   // Unknown keys are reported and the rest is read all the same.
   rd.rd.keys(root, {"name", "description", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz", "sensors",
-                    "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall", "frames", "plots", "sweep_plots", "log", "variants",
-                    "matrix", "experiment"},
+                    "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall", "frames", "plots", "sweep_plots", "log", "log_only",
+                    "variants", "matrix", "experiment"},
              "scenario");
   Scenario s;
   s.file = path;
@@ -441,6 +441,10 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   rd.optional(root, "plots", [&](const YAML::Node&) { read_plots(rd, root, s.plots); });
   rd.optional(root, "sweep_plots", [&](const YAML::Node& l) { read_sweep_plots(rd, l, root["matrix"], s.sweep_plots); });
   rd.optional(root, "log", [&](const YAML::Node& l) { s.log_signals = rd.names(l, "log"); });
+  rd.optional(root, "log_only", [&](const YAML::Node& l) {
+    std::map<std::string, std::string> where;
+    for (const std::string& pattern : rd.names(l, "log_only", &where, "log_only")) s.log_only.push_back({pattern, where["log_only:" + pattern]});
+  });
   s.experiment.file = path;
   rd.optional(root, "experiment", [&](const YAML::Node& e) { rd.experiment(e, s.experiment); });
   return s;

@@ -55,6 +55,7 @@ SimulationSpec base_spec(const Scenario& s, const VariantSetup& v, const RunOpti
   spec.end_on_fall = v.end_on_fall;
   spec.duration_s = options.duration_s.value_or(v.duration_s);
   spec.log_rate_hz = v.log_rate_hz;
+  spec.log_only = s.log_only;
   spec.sensor_noise = v.sensor_noise;
   spec.seed = v.seed;
   spec.force_noise_N = v.force_noise_N;

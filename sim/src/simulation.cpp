@@ -1,5 +1,7 @@
 #include "dmbd/sim/simulation.hpp"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -333,6 +335,24 @@ struct Simulation::Impl {
     Ns start = kNever;
   };
   std::vector<TriggerState> triggers;
+  // The bus signals the log keeps, in bus order: every one, or those matching spec.log_only.
+  std::vector<int> logged_signals() const {
+    std::vector<int> out;
+    std::vector<bool> used(spec.log_only.size(), false);
+    for (std::size_t s = 0; s < names.size(); ++s) {
+      bool keep = spec.log_only.empty();
+      for (std::size_t p = 0; p < spec.log_only.size(); ++p)
+        if (fnmatch(spec.log_only[p].pattern.c_str(), names[s].c_str(), 0) == 0) keep = used[p] = true;
+      if (keep) out.push_back(static_cast<int>(s));
+    }
+    for (std::size_t p = 0; p < used.size(); ++p)
+      if (!used[p]) {
+        const std::string close = closest_name(spec.log_only[p].pattern, names);
+        throw InputError(at(spec.log_only[p].where) + "log_only: '" + spec.log_only[p].pattern + "' matches no signal" +
+                         (close.empty() ? std::string() : " (the closest: '" + close + "')"));
+      }
+    return out;
+  }
   void bind_triggers() {
     for (std::size_t f = 0; f < spec.forces.size(); ++f) {
       triggers.emplace_back();
@@ -495,14 +515,15 @@ Log Simulation::run(const std::function<void(double)>& on_progress) {
   const Ns log_period = period_ns(m.spec.log_rate_hz, "log");
   const Ns t0 = static_cast<Ns>(std::llround(m.plant.time() * 1e9));
 
+  const std::vector<int> logged = m.logged_signals();
   // The log is kept in memory: refuse one that cannot fit rather than fail midway.
-  const double values = (static_cast<double>(end / log_period) + 2) * static_cast<double>(m.names.size() + 1);
+  const double values = (static_cast<double>(end / log_period) + 2) * static_cast<double>(logged.size() + 1);
   constexpr double kMaxLogValues = 2.5e8;  // 2 GB of doubles
   if (values > kMaxLogValues)
     throw InputError(fmt::format("a {} s run logged at {} Hz would hold {:.3g} values ({:.3g} GB, the limit is 2 GB): shorten duration_s "
                                  "or lower log_rate_hz", m.spec.duration_s, m.spec.log_rate_hz, values, values * 8 / 1e9));
   Log log;
-  for (std::size_t s = 0; s < m.names.size(); ++s) log.add_column(m.names[s], m.units[s]);
+  for (int s : logged) log.add_column(m.names[static_cast<std::size_t>(s)], m.units[static_cast<std::size_t>(s)]);
   log.reserve(static_cast<std::size_t>(end / log_period) + 2);
 
   for (auto& c : m.ctrls) c.next_tick = 0;
@@ -545,7 +566,7 @@ Log Simulation::run(const std::function<void(double)>& on_progress) {
       m.refresh_references(m.t_of(t));
       m.fill_logged();
       log.begin_row(m.t_of(t));
-      for (std::size_t s = 0; s < m.bus.size(); ++s) log.set(static_cast<int>(s) + 1, m.bus[s]);
+      for (std::size_t c = 0; c < logged.size(); ++c) log.set(static_cast<int>(c) + 1, m.bus[static_cast<std::size_t>(logged[c])]);
       next_log += log_period;
     }
     if (on_progress && t >= next_progress) {

@@ -199,6 +199,9 @@ struct Scenario {
   // `log`: signals kept for the log alone (a controller output nothing else reads is
   // otherwise refused as a likely misspelling).
   std::vector<std::string> log_signals;
+  // `log_only`: the signals every run's log keeps (patterns; empty: all), each with where
+  // it was written (a pattern that matches no signal is an error there).
+  std::vector<sim::SimulationSpec::LogPattern> log_only;
   // One line each: deprecated keys that were read (printed by dmbd simulate).
   std::vector<std::string> notes;
 };
