@@ -150,13 +150,14 @@ struct SimulationSpec {
   std::optional<EndOnFall> end_on_fall;  // floating base only
   double duration_s = 1;              // simulated time, s (0 < duration < 1e9, rounded to whole ns)
   double log_rate_hz = 1000;          // log rows per second; a whole number of ns per period
-  // The signals the log keeps (a scenario's `log_only`): shell-style patterns (fnmatch:
-  // `balance.*`, `l_?nee.q`), time always kept; empty: every signal. A pattern that
-  // matches no signal is an InputError at its `where`.
+  // A pattern of signal names the log keeps: shell-style, as POSIX fnmatch reads it
+  // ("balance.*", "l_?nee.q").
   struct LogPattern {
     std::string pattern;  // e.g. "base.*"
     std::string where;    // "file:line:col" of the pattern (as ReferenceSpec::where)
   };
+  // The signals the log keeps (a scenario's log_only), time always; empty: every signal.
+  // A pattern that matches no signal is an InputError at its where.
   std::vector<LogPattern> log_only;
   bool sensor_noise = false;          // off: exact readings (no quantisation, no noise)
   uint64_t seed = 1;                  // of the noise (std::mt19937_64); potentiometer k uses seed * 1000003 + k
