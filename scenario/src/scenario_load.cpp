@@ -13,6 +13,7 @@
 #include "scenario_reader.hpp"
 
 #include "dmbd/base/file.hpp"
+#include "dmbd/base/strings.hpp"
 #include "dmbd/base/yaml_reader.hpp"
 #include "dmbd/blocks/expression_numbers.hpp"
 #include "dmbd/model/actuator.hpp"
@@ -263,6 +264,28 @@ void Reader::variant_fields(const YAML::Node& n, VariantSetup& v) const {
       bus_controller(o, old, v);
     });
   optional(n, "end_on_fall", [&](const YAML::Node& e) { end_on_fall(e, v); });
+  optional(n, "push", [&](const YAML::Node& p) { push(p, v); });
+}
+
+// `push`: its keys over those already given (the base's, an earlier axis's).
+void Reader::push(const YAML::Node& n, VariantSetup& v) const {
+  keys(n, "push", {"link", "point", "direction_deg", "force_N", "duration_s", "start_s", "trigger"});
+  PushSetup p = v.push.value_or(PushSetup{});
+  p.where = at(n);
+  optional(n, "link", [&](const YAML::Node& x) { p.link = text(x, "push.link"); });
+  optional(n, "point", [&](const YAML::Node& x) { p.point = vec3(x, "push.point"); });
+  optional(n, "direction_deg", [&](const YAML::Node& x) { p.direction_deg = rd.number_in(x, "push.direction_deg", -360.0, 360.0, "deg"); });
+  optional(n, "force_N", [&](const YAML::Node& x) { p.force_N = rd.number_in(x, "push.force_N", 0.0, 1e6, "N"); });
+  optional(n, "duration_s", [&](const YAML::Node& x) { p.duration_s = positive(x, "push.duration_s"); });
+  optional(n, "start_s", [&](const YAML::Node& x) {
+    p.start_s = rd.number_in(x, "push.start_s", 0.0, 1e6, "s");
+    p.trigger.reset();
+  });
+  optional(n, "trigger", [&](const YAML::Node& x) {
+    p.trigger = trigger(x);
+    p.start_s.reset();
+  });
+  v.push = p;
 }
 
 // EndOnFall (simulation.hpp): true, false, or a map of its two thresholds.
@@ -328,12 +351,13 @@ namespace {
 using namespace detail;
 
 const std::initializer_list<const char*> kVariantKeys = {"name", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz",
-                                                         "sensors", "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall"};
+                                                         "sensors", "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall",
+                                                         "push"};
 
 // A matrix value may also give `value`: its number on the axis (sweep_plots' x).
 const std::initializer_list<const char*> kMatrixValueKeys = {"name", "value", "robot", "controllers", "references", "forces", "duration_s",
                                                              "log_rate_hz", "sensors", "thermal", "integration", "bus_controllers", "osc",
-                                                             "balance", "end_on_fall"};
+                                                             "balance", "end_on_fall", "push"};
 
 void read_variants(const Reader& rd, const YAML::Node& list, const VariantSetup& base, Scenario& s) {
   if (!list.IsSequence()) rd.fail(list, "variants: expected a list");
@@ -345,6 +369,41 @@ void read_variants(const Reader& rd, const YAML::Node& list, const VariantSetup&
     rd.variant_fields(n, v);
     s.variants.push_back(v);
   });
+}
+
+// "file:line:col" (Fields::at) back into a Location.
+Location location_of(const std::string& where) {
+  const auto c2 = where.rfind(':'), c1 = c2 == std::string::npos ? c2 : where.rfind(':', c2 - 1);
+  if (c1 == std::string::npos) return {where, 0, 0};
+  return {where.substr(0, c1), std::atoi(where.substr(c1 + 1, c2 - c1 - 1).c_str()), std::atoi(where.substr(c2 + 1).c_str())};
+}
+
+// A variant's merged `push` as one more force: a step of force_N for duration_s along the
+// horizontal direction, from start_s or from its trigger. Every key but point is needed.
+void append_push(const Reader& rd, VariantSetup& v) {
+  if (!v.push) return;
+  const PushSetup& p = *v.push;
+  const Location at = location_of(p.where);
+  std::vector<std::string> missing;
+  if (!p.link) missing.push_back("link");
+  if (!p.direction_deg) missing.push_back("direction_deg");
+  if (!p.force_N) missing.push_back("force_N");
+  if (!p.duration_s) missing.push_back("duration_s");
+  if (!p.start_s && !p.trigger) missing.push_back("start_s or trigger");
+  if (!missing.empty())
+    rd.rd.fail(at, "variant '" + v.name + "': push: missing " + join(missing) + " (after the base, the variant and the matrix axes)");
+  if (*p.force_N == 0) return;  // the unpushed reference
+  ForceSpec f;
+  f.link = *p.link;
+  f.point_L = p.point.value_or(Eigen::Vector3d::Zero());
+  const double a = *p.direction_deg * M_PI / 180.0;
+  f.direction_W = Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+  f.source.kind = Source::Kind::Steps;
+  const double t0 = p.start_s.value_or(0.0);
+  f.source.steps = {{t0, *p.force_N}, {t0 + *p.duration_s, 0.0}};
+  f.trigger = p.trigger;
+  f.where = p.where;
+  v.forces.push_back(f);
 }
 
 // Every combination of one value per axis, named "a/b/...".
@@ -414,8 +473,8 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   if (!root.IsMap()) rd.rd.fail(Location{path, 1, 1}, "a scenario is a map (name, robot, controllers, ...)");
   // Unknown keys are reported and the rest is read all the same.
   rd.rd.keys(root, {"name", "description", "robot", "controllers", "references", "forces", "duration_s", "log_rate_hz", "sensors",
-                    "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall", "frames", "plots", "sweep_plots", "log", "log_only",
-                    "variants", "matrix", "experiment"},
+                    "thermal", "integration", "bus_controllers", "osc", "balance", "end_on_fall", "push", "frames", "plots", "sweep_plots", "log",
+                    "log_only", "variants", "matrix", "experiment"},
              "scenario");
   Scenario s;
   s.file = path;
@@ -429,6 +488,7 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
   if (root["variants"]) rd.optional(root, "variants", [&](const YAML::Node& l) { read_variants(rd, l, base, s); });
   else if (root["matrix"]) rd.optional(root, "matrix", [&](const YAML::Node& m) { read_matrix(rd, m, base, s); });
   else s.variants.push_back(base);
+  for (auto& v : s.variants) rd.rd.guard([&] { append_push(rd, v); });
   std::set<std::string> seen;
   for (const auto& v : s.variants)
     if (!seen.insert(v.name).second) rd.rd.error(Location{path, 0, 0}, "two variants are named '" + v.name + "'");

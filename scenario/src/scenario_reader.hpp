@@ -141,6 +141,7 @@ struct Reader : ReaderBase, yaml::Fields {
   void robot_actuators(const YAML::Node& a, RobotSetup& r) const;
   void actuator_scales(const YAML::Node& sc, RobotSetup& r) const;
   ForceSpec::Trigger trigger(const YAML::Node& t) const;
+  void push(const YAML::Node& n, VariantSetup& v) const;
   void support(const YAML::Node& x, RobotSetup& r) const;
   Eigen::Isometry3d base_pose(const YAML::Node& p) const;
   void payloads(const YAML::Node& n, RobotSetup& r) const;

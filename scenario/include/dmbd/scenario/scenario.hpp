@@ -153,6 +153,21 @@ struct SweepPlotSetup {
   std::string where;                  // "file:line:col" of the entry
 };
 
+// A variant's `push` (docs/scenario-format.md, "push"): one horizontal push, its keys
+// merged key by key over the base and the matrix axes (so that one axis gives the
+// direction, another the force, another the moment), turned into one more entry of the
+// variant's forces when the scenario has been read. force_N 0: no push (a reference run).
+struct PushSetup {
+  std::optional<std::string> link;                   // `link`: the link pushed
+  std::optional<Eigen::Vector3d> point;              // `point`: in the link's frame, m (default 0)
+  std::optional<double> direction_deg;               // `direction_deg`: 0 forward (+x), 90 left (+y)
+  std::optional<double> force_N;                     // `force_N`: >= 0
+  std::optional<double> duration_s;                  // `duration_s`: > 0
+  std::optional<double> start_s;                     // `start_s`: at this time ...
+  std::optional<sim::ForceSpec::Trigger> trigger;    // `trigger`: ... or at a bus event (forces[].trigger)
+  std::string where;                                 // "file:line:col" of the last `push` map read
+};
+
 // How the plant is integrated (model::PlantOptions): error-controlled (accurate, for
 // identification and frequency responses) or the fixed semi-implicit step.
 struct IntegrationSetup {
@@ -182,6 +197,7 @@ struct VariantSetup {
   // the bus (control/registry.hpp), each a type's options, stepped after `controllers`.
   std::vector<std::shared_ptr<const control::BusControllerOptions>> bus_controllers;
   std::optional<sim::EndOnFall> end_on_fall;        // end the run once the robot is down (floating base)
+  std::optional<PushSetup> push;               // `push` (merged key by key; already appended to `forces`)
 };
 
 // A scenario file read and checked (load_scenario; docs/scenario-format.md).
