@@ -195,6 +195,7 @@ void record_limits(const Simulation& sim, const model::Plant& plant, VariantResu
     if (const long long n = plant.effort_clamp_events()[static_cast<std::size_t>(j)]; n > 0)
       r.effort_clamp_events[plant.joint_names()[static_cast<std::size_t>(j)]] = n;
   r.velocity_limit_exceeded = sim.velocity_limit_exceeded();
+  for (const std::string& line : sim.unfired_triggers()) r.warnings.push_back("variant '" + r.name + "': " + line);
   for (const auto& [joint, e] : r.velocity_limit_exceeded)
     r.warnings.push_back(fmt::format("variant '{}': joint '{}' ran at up to {:.4g} (its URDF velocity limit: {:.4g}) in {} plant steps", r.name,
                                      joint, e.peak, e.limit, e.samples));

@@ -506,6 +506,18 @@ std::map<std::string, VelocityExcess> Simulation::velocity_limit_exceeded() cons
   return out;
 }
 
+std::vector<std::string> Simulation::unfired_triggers() const {
+  std::vector<std::string> out;
+  for (std::size_t f = 0; f < impl_->triggers.size(); ++f) {
+    const auto& tr = impl_->triggers[f];
+    if (tr.signal < 0 || tr.start != kNever) continue;
+    const ForceSpec& spec = impl_->spec.forces[f];
+    out.push_back(fmt::format("{}force {} on link '{}': its trigger '{}' changed {} time(s), never reaching occurrence {}: the force was not applied",
+                              at(spec.where), f, spec.link, spec.trigger->signal, tr.seen, spec.trigger->occurrence));
+  }
+  return out;
+}
+
 Log Simulation::run(const std::function<void(double)>& on_progress) {
   Impl& m = *impl_;
   if (!(m.spec.duration_s < kMaxDurationS))

@@ -55,6 +55,19 @@ TEST(TriggeredForce, StartsAtTheSecondChangePlusItsDelayAsTheSameForceAtThatTime
   EXPECT_GT(std::abs(q_t[k] - free.log.column("l_knee.q")[k]), 1e-3);
 }
 
+// A trigger whose signal changes fewer times than its occurrence never fires: the run
+// says so, once, naming the force and how many changes it saw.
+TEST(TriggeredForce, OneThatNeverFiresIsAWarning) {
+  TempDir dir;
+  const auto r = run(dir.file("n.yaml"), scenario("  - {link: l_foot, source: 1, trigger: {signal: gate, occurrence: 3}}\n"));
+  EXPECT_TRUE(std::isnan(r.log.column("forces.0.start_s").back()));
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("variant 'base': " + dir.file("n.yaml") +
+                               ":8:12: force 0 on link 'l_foot': its trigger 'gate' changed 2 time(s), never reaching occurrence 3: the force was not applied"),
+            std::string::npos)
+      << r.warnings[0];
+}
+
 TEST(TriggeredForce, ASignalNotOnTheBusIsALocatedError) {
   TempDir dir;
   const std::string path = dir.file("e.yaml");

@@ -210,6 +210,9 @@ class Simulation {
   // Per joint name: the joints whose rate went beyond their URDF velocity limit during
   // run() (checked after every plant advance; joints without a limit are not watched).
   std::map<std::string, VelocityExcess> velocity_limit_exceeded() const;
+  // One line per triggered force whose trigger never fired during run() (the signal
+  // changed fewer times than its occurrence): that force was never applied.
+  std::vector<std::string> unfired_triggers() const;
 
  private:
   struct Impl;
