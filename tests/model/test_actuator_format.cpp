@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "actuator_fixtures.hpp"
 #include "robot_files.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/error.hpp"
@@ -20,23 +21,13 @@
 #include "dmbd/model/thermal.hpp"
 
 namespace dm = dmbd::model;
+using dmbd::model::testing::replaced;
+using dmbd::model::testing::text_of;
+namespace {
+std::string fixture(const std::string& name) { return dmbd::model::testing::actuator_fixture(name); }
+}  // namespace
 
 namespace {
-
-std::string fixture(const std::string& name) { return std::string(DMBD_MODEL_TEST_DATA) + "/actuators/" + name; }
-
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::logic_error("no '" + from + "'");
-  return text.replace(at, from.size(), to);
-}
 
 std::string write_table(const std::string& text) {
   const std::string path =

@@ -12,14 +12,18 @@
 #include <string>
 
 #include "dmbd/blocks/expression_numbers.hpp"
+#include "actuator_fixtures.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/error.hpp"
 
 namespace dm = dmbd::model;
+using dmbd::model::testing::replaced;
+namespace {
+std::string fixture(const std::string& name) { return dmbd::model::testing::actuator_fixture(name); }
+}  // namespace
 
 namespace {
 
-std::string fixture(const std::string& name) { return std::string(DMBD_MODEL_TEST_DATA) + "/actuators/" + name; }
 
 // The ModelError message of loading a fixture ("" if it loads).
 std::string error_of(const std::string& name) {
@@ -151,18 +155,8 @@ TEST(LoadActuators, NonPositiveLiquidResistance) {
 
 namespace {
 
-std::string good_table() {
-  std::ifstream in(fixture("good.yaml"));
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string good_table() { return dmbd::model::testing::text_of(fixture("good.yaml")); }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::logic_error("no '" + from + "'");
-  return text.replace(at, from.size(), to);
-}
 
 std::string write_table(const std::string& text) {
   const std::string path = (std::filesystem::temp_directory_path() / ("dmbd_actuators_" + std::to_string(::getpid()) + ".yaml")).string();

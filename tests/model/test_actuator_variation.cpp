@@ -11,27 +11,18 @@
 #include <sstream>
 #include <string>
 
+#include "actuator_fixtures.hpp"
 #include "dmbd/model/actuator.hpp"
 #include "dmbd/model/error.hpp"
 
 namespace dm = dmbd::model;
+using dmbd::model::testing::replaced;
+using dmbd::model::testing::text_of;
+namespace {
+std::string fixture(const std::string& name) { return dmbd::model::testing::actuator_fixture(name); }
+}  // namespace
 
 namespace {
-
-std::string fixture(const std::string& name) { return std::string(DMBD_MODEL_TEST_DATA) + "/actuators/" + name; }
-
-std::string text_of(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::logic_error("no '" + from + "'");
-  return text.replace(at, from.size(), to);
-}
 
 // good.yaml with a `robot` load set on both entries (knee 4000, ankle 480) and an `other`
 // set on the knee alone, written to a temporary file.
