@@ -7,6 +7,10 @@
 //   steps                             balance.touch_downs at the last sample before the fall
 //   landing_error_rms_m               |landed − planned| (x, y) at each landing (balance.landings)
 //                                     before the fall, RMS over them
+//   com_max_distance_m, com_max_distance_at_s
+//                                     the largest horizontal distance of balance.com (x, y)
+//                                     from where it was at the first touch-down, before the
+//                                     fall, and when (stepping in place: it stays near its start)
 //   com_lateral_velocity_reversals    fraction of the steps between consecutive touch-downs
 //                                     (before the fall) in which balance.com_vy changes sign
 //   peak_winding_C {cooled, uncooled} largest knee winding temperature (both knees)
@@ -29,6 +33,7 @@
 
 #include <fmt/format.h>
 
+#include "balance_runs.hpp"
 #include "damping_replay.hpp"
 #include "experiment_support.hpp"
 #include "push_capture.hpp"
@@ -40,54 +45,15 @@ namespace dmbd::experiments {
 
 namespace {
 
+using detail::BalanceParams;
+using detail::BalanceRun;
 using detail::signal;
 using detail::stacked_axes;
 
-constexpr double kSurviveAfterPushS = 3.0;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-struct Params {
-  std::string leg;
-  double start_s, fall_height_m, fall_tilt_rad;
-  std::string prefix;                        // the balancing controller's signals: its name and "."
-  std::vector<std::string> winding_joints;   // whose winding temperatures are reported (`winding_joints`)
-  std::optional<detail::SwingLimits> reach;  // `swing_speed_max_m_s` and `swing_accel_max_m_s2`: the pushes' verdicts count the foot's reach
-  const ExperimentSetup* setup = nullptr;    // its figure labels
-};
-
-// What the metrics and the figures share of one variant's log, found once.
-struct Run {
-  const VariantResult& r;
-  const std::vector<double>& t;
-  std::string prefix;                     // Params::prefix
-  std::size_t start = 0;                  // first sample at or after start_s
-  std::size_t fall = 0;                   // first sample past the fall limits, or rows
-  std::vector<std::size_t> touch_downs{};  // samples where balance.touch_downs rose, before the fall
-  std::vector<std::size_t> landings{};     // samples where balance.landings rose, before the fall
-  bool fell() const { return fall < t.size(); }
-  double end_s() const { return fell() ? t[fall] : t.back(); }
-};
-
-Run analyse(const VariantResult& r, const Params& p, const std::string& file) {
-  Run run{r, r.log.time(), p.prefix};
-  const auto& t = run.t;
-  const auto& z = signal(r, "base.z", file);
-  const auto& tilt = signal(r, "base.tilt", file);
-  run.start = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), p.start_s) - t.begin());
-  run.fall = t.size();
-  for (std::size_t k = 0; k < t.size() && run.fall == t.size(); ++k)
-    if (z[k] < p.fall_height_m || tilt[k] > p.fall_tilt_rad) run.fall = k;
-  const auto& td = signal(r, p.prefix + "touch_downs", file);
-  const auto& landed = signal(r, p.prefix + "landings", file);
-  for (std::size_t k = 1; k < run.fall; ++k) {
-    if (td[k] > td[k - 1]) run.touch_downs.push_back(k);
-    if (landed[k] > landed[k - 1]) run.landings.push_back(k);
-  }
-  return run;
-}
-
 // RMS over the landings of the distance between the latched landed and planned points.
-double landing_error_rms(const Run& run, const std::string& file) {
+double landing_error_rms(const BalanceRun& run, const std::string& file) {
   const auto& lx = signal(run.r, run.prefix + "landed_x", file);
   const auto& ly = signal(run.r, run.prefix + "landed_y", file);
   const auto& px = signal(run.r, run.prefix + "planned_x", file);
@@ -100,7 +66,7 @@ double landing_error_rms(const Run& run, const std::string& file) {
 // The fraction of the steps [touch-down i, touch-down i+1] whose samples hold both a
 // positive and a negative com_vy (a sign change between two of its samples; a change
 // across a touch-down belongs to the step it ends).
-double reversal_fraction(const Run& run, const std::string& file) {
+double reversal_fraction(const BalanceRun& run, const std::string& file) {
   const auto& vy = signal(run.r, run.prefix + "com_vy", file);
   const std::size_t n = run.touch_downs.size() < 2 ? 0 : run.touch_downs.size() - 1;
   std::size_t reversed = 0;
@@ -113,6 +79,25 @@ double reversal_fraction(const Run& run, const std::string& file) {
     if (pos && neg) ++reversed;
   }
   return n ? static_cast<double>(reversed) / static_cast<double>(n) : kNaN;
+}
+
+// The largest horizontal distance of the CoM from where it was at the first touch-down,
+// up to the fall, into m (com_max_distance_m and _at_s; null without a touch-down).
+void com_excursion(const BalanceRun& run, const std::string& file, nlohmann::json& m) {
+  m["com_max_distance_m"] = nullptr;
+  m["com_max_distance_at_s"] = nullptr;
+  if (run.touch_downs.empty()) return;
+  const auto& x = signal(run.r, run.prefix + "com_x", file);
+  const auto& y = signal(run.r, run.prefix + "com_y", file);
+  const std::size_t k0 = run.touch_downs.front();
+  double best = 0.0;
+  std::size_t at = k0;
+  for (std::size_t k = k0; k < run.fall; ++k) {
+    const double d = std::hypot(x[k] - x[k0], y[k] - y[k0]);
+    if (d > best) best = d, at = k;
+  }
+  m["com_max_distance_m"] = best;
+  m["com_max_distance_at_s"] = run.t[at];
 }
 
 double peak(const std::vector<double>& x) {
@@ -137,107 +122,11 @@ void winding_metrics(const VariantResult& r, Cooling cooling, const std::vector<
     }
 }
 
-// ---------------------------------------------------------------- pushes
-// The scenario's pushes up to the variant's duration, also those a run ended (by a fall)
-// before reaching: they were not survived.
-struct Push {
-  double start_s, end_s, peak_N = 0;
-  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // of the force at its peak, unit
-};
-
-void switch_times(const Source& s, std::vector<double>& out) {
-  out.push_back(s.start_s);
-  if (s.duration_s > 0) out.push_back(s.start_s + s.duration_s);
-  for (const auto& step : s.steps) out.push_back(step.first);
-  for (const auto& p : s.plus) switch_times(p, out);
-}
-
-// The times (on the run's clock) a source started at `start` is read at: the log's
-// samples from `start` on, the source's own switching times moved by `start` up to t_end
-// (a step's exact start and end however coarse the log, and the pushes of a run that
-// ended early), `start` and t_end.
-std::vector<double> push_grid(const std::vector<double>& t, const Source& s, double start, double t_end) {
-  std::vector<double> g, extra{start, t_end};
-  switch_times(s, extra);
-  for (double x : t)
-    if (x >= start) g.push_back(x);
-  for (std::size_t k = 2; k < extra.size(); ++k) extra[k] += start;
-  for (double x : extra)
-    if (x >= std::max(start, t.front()) && x <= t_end) g.push_back(x);
-  std::sort(g.begin(), g.end());
-  g.erase(std::unique(g.begin(), g.end()), g.end());
-  return g;
-}
-
-// Each interval up to t_end over which the force's source is nonzero (one still on at
-// t_end ends there). A force started by a trigger runs its source from `start` (the
-// logged forces.K.start_s); one never started pushed nothing.
-void find_pushes(const ForceSpec& f, const std::vector<double>& t, double t_end, double start, std::vector<Push>& out) {
-  const double scale = f.direction_W.norm();
-  if (scale == 0 || t.empty() || !std::isfinite(start)) return;
-  const auto g = push_grid(t, f.source, start, t_end);
-  bool on = false;
-  for (double x : g) {
-    const double v = f.source.value(x - start);
-    if (v == 0) {
-      if (on) out.back().end_s = x;
-      on = false;
-      continue;
-    }
-    if (!on) out.push_back({x, g.back()});
-    on = true;
-    if (std::abs(v) * scale > out.back().peak_N) {
-      out.back().peak_N = std::abs(v) * scale;
-      out.back().direction = f.direction_W * (v > 0 ? 1.0 : -1.0) / scale;
-    }
-  }
-}
-
-// The pendulum's verdict at the push's end (push_capture.hpp) and the capture point's
-// shift by the push itself, F/(mω²)(e^{ωτ} − 1) with the horizontal part of F and the
-// robot's total mass.
-nlohmann::json push_lipm(const Run& run, const VariantFacts& v, const Push& p, const std::optional<detail::SwingLimits>& reach,
-                         const std::string& file) {
-  const auto mass = run.r.truth.find("total_mass_kg");
-  const auto* balance = v.bus_controller<control::BalanceSetup>();
-  if (!balance || mass == run.r.truth.end()) return nullptr;
-  nlohmann::json out = detail::push_capture(run.r, *balance, p.end_s, file, reach);
-  if (out.is_null()) out = {{"capturable", nullptr}};  // the run ended before, or not stepping
-  const double force = p.peak_N * p.direction.head<2>().norm();
-  out["push_cp_shift_m"] = wholebody::push_capture_point_shift(force, p.end_s - p.start_s, mass->second, detail::pendulum_omega(*balance));
-  return out;
-}
-
-nlohmann::json push_metrics(const Run& run, const VariantFacts& v, const std::optional<detail::SwingLimits>& reach, const std::string& file) {
-  std::vector<Push> pushes;
-  for (std::size_t k = 0; k < v.forces.size(); ++k) {
-    double start = 0.0;  // on the run's clock
-    if (v.forces[k].trigger) {
-      const int c = run.r.log.find(fmt::format("forces.{}.start_s", k));
-      start = c < 0 ? NAN : run.r.log.column(c).back();
-    }
-    find_pushes(v.forces[k], run.t, std::max(run.t.back(), v.duration_s), start, pushes);
-  }
-  std::sort(pushes.begin(), pushes.end(), [](const Push& a, const Push& b) { return a.start_s < b.start_s; });
-  nlohmann::json out = nlohmann::json::array();
-  for (const auto& p : pushes) {
-    const double until = p.end_s + kSurviveAfterPushS;
-    const bool survived = run.t.back() >= until - 1e-9 && !(run.fell() && run.end_s() <= until);
-    out.push_back({{"start_s", p.start_s},
-                   {"duration_s", p.end_s - p.start_s},
-                   {"force_N", p.peak_N},
-                   {"direction", nlohmann::json::array({p.direction.x(), p.direction.y(), p.direction.z()})},
-                   {"survived", survived},
-                   {"lipm", push_lipm(run, v, p, reach, file)}});
-  }
-  return out;
-}
-
 // ---------------------------------------------------------------- metrics
 // A logged count as a JSON integer (null if not finite).
 nlohmann::json count(double x) { return std::isfinite(x) ? nlohmann::json(std::llround(x)) : nlohmann::json(nullptr); }
 
-void run_metrics(const Run& run, const Params& p, const VariantFacts& v, const std::string& file, nlohmann::json& m) {
+void run_metrics(const BalanceRun& run, const BalanceParams& p, const VariantFacts& v, const std::string& file, nlohmann::json& m) {
   m["fell"] = run.fell();
   if (run.fell()) m["fall_time_s"] = run.end_s();
   m["balanced_s"] = std::max(0.0, run.end_s() - p.start_s);
@@ -245,12 +134,13 @@ void run_metrics(const Run& run, const Params& p, const VariantFacts& v, const s
   m["steps"] = count(td[run.fell() ? (run.fall ? run.fall - 1 : 0) : td.size() - 1]);
   m["landing_error_rms_m"] = landing_error_rms(run, file);
   m["com_lateral_velocity_reversals"] = reversal_fraction(run, file);
+  com_excursion(run, file, m);
   winding_metrics(run.r, v.cooling, p.winding_joints, m);
   for (const char* stat : {"median", "max"})
     if (const auto it = run.r.timing_us.find(std::string("wbc_tick_us_") + stat); it != run.r.timing_us.end()) m["wbc_tick_us"][stat] = it->second;
   m["real_time_factor"] = run.r.real_time_factor;
   m["qp_failures"] = count(signal(run.r, run.prefix + "qp_failures", file).back());
-  m["pushes"] = push_metrics(run, v, p.reach, file);
+  m["pushes"] = detail::push_metrics(run, v, p.reach, file);
 }
 
 // ---------------------------------------------------------------- figures
@@ -265,7 +155,7 @@ plot::Series part(const std::string& label, const std::vector<double>& x, const 
 }
 
 // The step boundaries from the start: stepping's start, then each touch-down after it.
-std::vector<std::size_t> step_bounds(const Run& run) {
+std::vector<std::size_t> step_bounds(const BalanceRun& run) {
   std::vector<std::size_t> b{run.start};
   for (std::size_t k : run.touch_downs)
     if (k > run.start) b.push_back(k);
@@ -274,11 +164,11 @@ std::vector<std::size_t> step_bounds(const Run& run) {
 
 // The lateral CoM phase portrait of each variant's stepping (before the fall), steps 5
 // and 6 (or the last two) highlighted.
-plot::Figure com_phase_figure(const std::vector<Run>& runs, const Params& p, const std::string& file) {
+plot::Figure com_phase_figure(const std::vector<BalanceRun>& runs, const BalanceParams& p, const std::string& file) {
   plot::Figure fig(1000, 100 + 550 * static_cast<int>(runs.size()));
   fig.title = labelled(*p.setup, "balance_com_phase", "Lateral CoM phase portrait, stepping in place");
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const Run& run = runs[i];
+    const BalanceRun& run = runs[i];
     auto& a = fig.axes().emplace_back();
     a.title = run.r.name;
     a.x_label = "CoM y (m)";
@@ -303,7 +193,7 @@ std::vector<std::string> leg_joints(const VariantResult& r, const std::string& l
   return out;
 }
 
-plot::Figure joints_figure(const std::vector<Run>& runs, const Params& p, const std::string& file) {
+plot::Figure joints_figure(const std::vector<BalanceRun>& runs, const BalanceParams& p, const std::string& file) {
   const auto joints = leg_joints(runs.front().r, p.leg);
   plot::Figure fig(1200, 200 * static_cast<int>(std::max<std::size_t>(joints.size(), 1)) + 100);
   fig.title = labelled(*p.setup, "balance_joints", "Joint positions of the leg, desired (dashed) and measured");
@@ -321,7 +211,7 @@ plot::Figure joints_figure(const std::vector<Run>& runs, const Params& p, const 
 }
 
 // The knees' winding temperatures (every thermal column of both knees); none: no figure.
-std::optional<plot::Figure> knee_temperature_figure(const std::vector<Run>& runs, const Params& p) {
+std::optional<plot::Figure> knee_temperature_figure(const std::vector<BalanceRun>& runs, const BalanceParams& p) {
   plot::Figure fig(1200, 600);
   fig.title = labelled(*p.setup, "balance_knee_temperature", "Winding temperature");
   auto& a = fig.add_axes();
@@ -352,7 +242,7 @@ plot::Series points(const std::string& label, const std::vector<double>& x, cons
   return s;
 }
 
-plot::Figure footsteps_figure(const std::vector<Run>& runs, const Params& p, const std::string& file) {
+plot::Figure footsteps_figure(const std::vector<BalanceRun>& runs, const BalanceParams& p, const std::string& file) {
   plot::Figure fig(1000, 100 + 600 * static_cast<int>(runs.size()));
   fig.title = labelled(*p.setup, "balance_footsteps", "Footsteps from above: planned and landed at each landing, and the CoM");
   for (const auto& run : runs) {
@@ -370,7 +260,7 @@ plot::Figure footsteps_figure(const std::vector<Run>& runs, const Params& p, con
   return fig;
 }
 
-plot::Figure phases_figure(const std::vector<Run>& runs, const Params& p, const std::string& file) {
+plot::Figure phases_figure(const std::vector<BalanceRun>& runs, const BalanceParams& p, const std::string& file) {
   plot::Figure fig(1200, 1000);
   fig.title = labelled(*p.setup, "balance_phases", "Balancing: phase, swing side, torso height and tilt");
   struct Row {
@@ -397,7 +287,7 @@ plot::Figure phases_figure(const std::vector<Run>& runs, const Params& p, const 
   return fig;
 }
 
-void add_figures(const std::vector<Run>& runs, const Params& p, const std::string& file, ExperimentResult& res) {
+void add_figures(const std::vector<BalanceRun>& runs, const BalanceParams& p, const std::string& file, ExperimentResult& res) {
   if (runs.empty()) return;
   res.figures.emplace_back("balance_com_phase.png", com_phase_figure(runs, p, file));
   res.figures.emplace_back("balance_joints.png", joints_figure(runs, p, file));
@@ -408,7 +298,7 @@ void add_figures(const std::vector<Run>& runs, const Params& p, const std::strin
 
 // The knees' output damping replayed (`replay_scales`: damping_replay.hpp) on a run that
 // stood: its metrics under balance.RUN.damping_replay, a figure, the verdict as a note.
-void add_replay(const Run& run, const ExperimentSetup& e, const Params& p, ExperimentResult& res) {
+void add_replay(const BalanceRun& run, const ExperimentSetup& e, const BalanceParams& p, ExperimentResult& res) {
   const auto scales = e.numbers.find("replay_scales");
   if (scales == e.numbers.end()) return;
   if (run.fell()) {
@@ -426,34 +316,18 @@ void add_replay(const Run& run, const ExperimentSetup& e, const Params& p, Exper
   res.notes.push_back(out->note);
 }
 
-// The balancing controller's signal prefix: from the first variant that has one.
-std::string balance_prefix(const std::vector<VariantFacts>& variants) {
-  for (const auto& v : variants)
-    if (const auto* b = v.bus_controller<control::BalanceSetup>()) return b->name + ".";
-  return "balance.";
-}
-
 ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) {
-  Params p{detail::text_or(e, "leg", ""), detail::number_or(e, "start_s", 4.0), detail::number_or(e, "fall_height_m", 0.6),
-           detail::number_or(e, "fall_tilt_rad", 0.5), balance_prefix(variants), {}, std::nullopt, &e};
-  if (const auto it = e.names.find("winding_joints"); it != e.names.end()) p.winding_joints = it->second;
-  if (e.number.count("swing_speed_max_m_s") != e.number.count("swing_accel_max_m_s2"))
-    throw InputError(e.file + ": experiment balance: give swing_speed_max_m_s and swing_accel_max_m_s2 together (the swing foot's reach)");
-  if (e.number.count("swing_speed_max_m_s")) {
-    p.reach = detail::SwingLimits{e.number.at("swing_speed_max_m_s"), e.number.at("swing_accel_max_m_s2")};
-    if (!(p.reach->speed_m_s > 0) || !(p.reach->accel_m_s2 > 0))
-      throw InputError(e.where.at("swing_speed_max_m_s") + ": experiment balance: the swing foot's speed and acceleration limits must be > 0");
-  }
+  const BalanceParams p = detail::read_balance_params(e, variants);
   ExperimentResult res;
-  std::vector<Run> analysed;
+  std::vector<BalanceRun> analysed;
   for (std::size_t k = 0; k < runs.size(); ++k) {
     const VariantResult& r = runs[k];
     if (r.log.rows() == 0) {
       res.warnings.push_back(fmt::format("variant '{}' logged no samples: no metrics", r.name));
       continue;
     }
-    analysed.push_back(analyse(r, p, e.file));
-    const Run& run = analysed.back();
+    analysed.push_back(detail::analyse_run(r, p, e.file));
+    const BalanceRun& run = analysed.back();
     if (run.t.back() < p.start_s)
       res.warnings.push_back(fmt::format("variant '{}': the run ends before stepping starts ({} s)", r.name, p.start_s));
     if (run.fell()) res.warnings.push_back(fmt::format("variant '{}' fell at t = {:.3f} s", r.name, run.end_s()));
@@ -464,7 +338,7 @@ ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResu
   res.notes.push_back(fmt::format("Fell: torso below {} m or tilted beyond {} rad; stepping from t = {} s; steps, landing errors and CoM "
                                   "velocity reversals up to the fall. A push survived when the robot did not fall within {} s of its end "
                                   "and the run lasted that long.",
-                                  p.fall_height_m, p.fall_tilt_rad, p.start_s, kSurviveAfterPushS));
+                                  p.fall_height_m, p.fall_tilt_rad, p.start_s, detail::kSurviveAfterPushS));
   return res;
 }
 

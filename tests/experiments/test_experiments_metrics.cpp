@@ -210,6 +210,8 @@ namespace {
 //   unrelated point (a miss of 1 m) from a touch-down until its landing;
 //   com_vy = ±0.1 flipping sign from samples 420, 475, 575, 625, 800 and 920 on (0 at
 //   sample 520: no change of sign);
+//   com_x = 0.02 t, com_y = 0.01 sin t (from the first touch-down on the distance grows
+//   monotonically: its largest value is at the last sample before the fall);
 //   the fall (by `fall`: base.z 0.5 < 0.6 m, or base.tilt 0.6 > 0.5 rad) from sample 900.
 enum class Fall { None, Height, Tilt };
 // Both knees' windings under both thermal models, one model only (J.T_winding), none.
@@ -250,7 +252,7 @@ dmbd::sim::VariantResult stepping_log(const std::string& name, Fall fall, Therma
     const int n_flips = static_cast<int>(std::count_if(flips.begin(), flips.end(), [&](int s) { return k >= s; }));
     set("balance.com_vy", k == 520 ? 0.0 : (n_flips % 2 ? -0.1 : 0.1));
     set("balance.com_y", 0.01 * std::sin(t));
-    set("balance.com_x", 0.0);
+    set("balance.com_x", 0.02 * t);  // a drift of 2 cm/s
     for (const char* c : {"balance.phase", "balance.swing_side", "l_knee.q", "l_knee.q_des", "l_ankle.q", "l_ankle.q_des", "r_knee.q",
                           "r_knee.q_des"})
       set(c, 0.0);
@@ -313,6 +315,9 @@ TEST(SimBalanceExperiment, MetricsOfASyntheticSteppingRun) {
   // Steps (4.5, 5], ..., (8, 8.5]: flips at 4.75, 5.75, 6.25 and 8.0 (the change into
   // the sample at 8.0 ends the step (7.5, 8]); the 0 at 5.2 s is none: 4 of 8.
   EXPECT_DOUBLE_EQ(h.at("com_lateral_velocity_reversals").get<double>(), 0.5);
+  // From the first touch-down (4.5 s) to the last sample before the fall (8.99 s).
+  EXPECT_NEAR(h.at("com_max_distance_m").get<double>(), std::hypot(0.02 * 4.49, 0.01 * (std::sin(8.99) - std::sin(4.5))), 1e-12);
+  EXPECT_NEAR(h.at("com_max_distance_at_s").get<double>(), 8.99, 1e-12);
   EXPECT_DOUBLE_EQ(h.at("peak_winding_C").at("cooled").get<double>(), 45.0);
   EXPECT_DOUBLE_EQ(h.at("peak_winding_C").at("uncooled").get<double>(), 80.0);
   EXPECT_DOUBLE_EQ(h.at("wbc_tick_us").at("median").get<double>(), 120.0);
@@ -338,6 +343,7 @@ TEST(SimBalanceExperiment, MetricsOfASyntheticSteppingRun) {
   EXPECT_EQ(u.at("steps").get<long long>(), 10);
   EXPECT_NEAR(u.at("landing_error_rms_m").get<double>(), std::sqrt((0.0285 + 0.01) / 10.0), 1e-12);
   EXPECT_DOUBLE_EQ(u.at("com_lateral_velocity_reversals").get<double>(), 5.0 / 9.0);  // and the flip at 9.2 s
+  EXPECT_NEAR(u.at("com_max_distance_m").get<double>(), std::hypot(0.02 * 5.5, 0.01 * (std::sin(10.0) - std::sin(4.5))), 1e-12);
   const auto& up = u.at("pushes");
   ASSERT_EQ(up.size(), 2u);  // in the order of their start
   EXPECT_DOUBLE_EQ(up[0].at("start_s").get<double>(), 5.0);
