@@ -13,6 +13,7 @@ std::shared_ptr<const Experiment> standing_experiment();
 std::shared_ptr<const Experiment> sysid_rfsea_experiment();
 std::shared_ptr<const Experiment> osc_table_experiment();
 std::shared_ptr<const Experiment> balance_experiment();
+std::shared_ptr<const Experiment> push_map_experiment();
 
 namespace {
 
@@ -25,6 +26,7 @@ Registry<Experiment>& types() {
       {"sysid_rfsea", sysid_rfsea_experiment()},        // paper Fig. 5a
       {"osc_table", osc_table_experiment()},            // paper Fig. 6
       {"balance", balance_experiment()},                // paper Fig. 7
+      {"push_map", push_map_experiment()},              // pushes against the capture verdict (issue 27)
   });
   return t;
 }

@@ -380,6 +380,9 @@ Location location_of(const std::string& where) {
 
 // A variant's merged `push` as one more force: a step of force_N for duration_s along the
 // horizontal direction, from start_s or from its trigger. Every key but point is needed.
+// force_N 0 (the unpushed reference) keeps the force with a zero direction: nothing
+// pushes, but its trigger is watched and its start logged (forces.K.start_s), so the
+// reference run knows when the push would have come.
 void append_push(const Reader& rd, VariantSetup& v) {
   if (!v.push) return;
   const PushSetup& p = *v.push;
@@ -392,12 +395,11 @@ void append_push(const Reader& rd, VariantSetup& v) {
   if (!p.start_s && !p.trigger) missing.push_back("start_s or trigger");
   if (!missing.empty())
     rd.rd.fail(at, "variant '" + v.name + "': push: missing " + join(missing) + " (after the base, the variant and the matrix axes)");
-  if (*p.force_N == 0) return;  // the unpushed reference
   ForceSpec f;
   f.link = *p.link;
   f.point_L = p.point.value_or(Eigen::Vector3d::Zero());
   const double a = *p.direction_deg * M_PI / 180.0;
-  f.direction_W = Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+  f.direction_W = *p.force_N == 0 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
   f.source.kind = Source::Kind::Steps;
   const double t0 = p.start_s.value_or(0.0);
   f.source.steps = {{t0, *p.force_N}, {t0 + *p.duration_s, 0.0}};
