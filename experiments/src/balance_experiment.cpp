@@ -11,6 +11,9 @@
 //                                     the largest horizontal distance of balance.com (x, y)
 //                                     from where it was at the first touch-down, before the
 //                                     fall, and when (stepping in place: it stays near its start)
+//   swing_foot_peak_speed_m_s, swing_foot_peak_accel_m_s2
+//                                     the swing foot's largest horizontal speed and
+//                                     acceleration in its swings (balance_runs.hpp)
 //   com_lateral_velocity_reversals    fraction of the steps between consecutive touch-downs
 //                                     (before the fall) in which balance.com_vy changes sign
 //   peak_winding_C {cooled, uncooled} largest knee winding temperature (both knees)
@@ -135,6 +138,9 @@ void run_metrics(const BalanceRun& run, const BalanceParams& p, const VariantFac
   m["landing_error_rms_m"] = landing_error_rms(run, file);
   m["com_lateral_velocity_reversals"] = reversal_fraction(run, file);
   com_excursion(run, file, m);
+  const detail::SwingPeaks swing = detail::swing_peaks(run, file);
+  m["swing_foot_peak_speed_m_s"] = swing.speed_m_s;
+  m["swing_foot_peak_accel_m_s2"] = swing.accel_m_s2;
   winding_metrics(run.r, v.cooling, p.winding_joints, m);
   for (const char* stat : {"median", "max"})
     if (const auto it = run.r.timing_us.find(std::string("wbc_tick_us_") + stat); it != run.r.timing_us.end()) m["wbc_tick_us"][stat] = it->second;

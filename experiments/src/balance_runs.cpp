@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
 #include "dmbd/control/balance_controller.hpp"
 #include "dmbd/wholebody/capture.hpp"
+#include "dmbd/wholebody/phase_machine.hpp"
 
 namespace dmbd::experiments::detail {
 
@@ -27,6 +29,27 @@ BalanceRun analyse_run(const VariantResult& r, const BalanceParams& p, const std
     if (landed[k] > landed[k - 1]) run.landings.push_back(k);
   }
   return run;
+}
+
+SwingPeaks swing_peaks(const BalanceRun& run, const std::string& file) {
+  const auto& x = signal(run.r, run.prefix + "swing_x", file);
+  const auto& y = signal(run.r, run.prefix + "swing_y", file);
+  const auto& phase = signal(run.r, run.prefix + "phase", file);
+  const auto& step = signal(run.r, run.prefix + "step", file);
+  const auto& t = run.t;
+  const double swing = static_cast<double>(static_cast<int>(wholebody::Phase::Swing));
+  SwingPeaks out{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  for (std::size_t k = std::max<std::size_t>(run.start, 2); k + 2 < run.fall; ++k) {
+    bool inside = true;
+    for (std::size_t j = k - 2; j <= k + 2; ++j) inside = inside && phase[j] == swing && step[j] == step[k];
+    if (!inside) continue;
+    const double h1 = t[k + 1] - t[k - 1], h2 = 0.5 * (t[k + 2] - t[k - 2]);
+    const double v = std::hypot(x[k + 1] - x[k - 1], y[k + 1] - y[k - 1]) / h1;
+    const double a = std::hypot(x[k + 2] - 2 * x[k] + x[k - 2], y[k + 2] - 2 * y[k] + y[k - 2]) / (h2 * h2);
+    out.speed_m_s = std::isnan(out.speed_m_s) ? v : std::max(out.speed_m_s, v);
+    out.accel_m_s2 = std::isnan(out.accel_m_s2) ? a : std::max(out.accel_m_s2, a);
+  }
+  return out;
 }
 
 BalanceParams read_balance_params(const ExperimentSetup& e, const std::vector<VariantFacts>& variants) {

@@ -46,6 +46,16 @@ struct BalanceRun {
 // file for a signal it did not log.
 BalanceRun analyse_run(const VariantResult& r, const BalanceParams& p, const std::string& file);
 
+// The swing foot's largest horizontal speed and acceleration while it swings (phase
+// Swing), from stepping's start to the fall: central differences of the logged
+// balance.swing_x/y over ±1 sample (speed) and ±2 samples (acceleration), only where
+// every sample of the stencil is in the same swing. What the foot did, not what it could
+// do: a lower bound on its limits. NaN without a swing.
+struct SwingPeaks {
+  double speed_m_s, accel_m_s2;
+};
+SwingPeaks swing_peaks(const BalanceRun& run, const std::string& file);
+
 // The keys every balance experiment shares (start_s, fall limits, the swing's reach; its
 // controller's prefix from the variants); InputError naming the file for limits given
 // alone or not positive.

@@ -21,6 +21,10 @@
 //                                   smallest); per phase the largest survived and the
 //                                   analytic boundary below
 //   boundary {reference, trigger_time_s, phase_s [..], by_direction {DEG: [F_max ..]}}
+//   swing_foot {runs, peak_speed_m_s, peak_accel_m_s2}  the swing foot's largest speed and
+//                                   acceleration over the runs that stood (survived pushes,
+//                                   an unpushed run that did not fall): what it did while
+//                                   balancing, a measured lower bound on its limits
 // The boundary F_max(phase): on the group's unpushed run (its `push` with force_N 0, the
 // reference), the pendulum's verdict at the end of a push starting `phase` after the
 // pushes' phase origin, and the largest force along the direction that keeps the capture
@@ -60,6 +64,10 @@ struct MapPush {
 
 struct Group {
   std::vector<MapPush> pushes;
+  // The swing foot's peaks over the runs that stood (the survived pushes and an unpushed
+  // run that did not fall): what the robot's swing foot did while balancing.
+  double swing_speed_m_s = 0, swing_accel_m_s2 = 0;
+  int stood = 0;
   const BalanceRun* reference = nullptr;
   const VariantFacts* reference_facts = nullptr;
 };
@@ -212,9 +220,18 @@ plot::Figure map_figure(const ExperimentSetup& e, const std::string& name, const
   return fig;
 }
 
+void add_swing_peaks(const BalanceRun& run, const std::string& file, Group& g) {
+  const detail::SwingPeaks s = detail::swing_peaks(run, file);
+  if (std::isnan(s.speed_m_s)) return;
+  g.swing_speed_m_s = std::max(g.swing_speed_m_s, s.speed_m_s);
+  g.swing_accel_m_s2 = std::max(g.swing_accel_m_s2, s.accel_m_s2);
+  ++g.stood;
+}
+
 void add_push(const BalanceRun& run, const VariantFacts& v, const BalanceParams& p, const std::string& file, Group& g) {
   const nlohmann::json pushes = detail::push_metrics(run, v, p.reach, file);
   if (pushes.empty()) {
+    if (!run.fell()) add_swing_peaks(run, file, g);
     if (!g.reference) g.reference = &run, g.reference_facts = &v;
     return;
   }
@@ -223,6 +240,7 @@ void add_push(const BalanceRun& run, const VariantFacts& v, const BalanceParams&
   const auto dir = j.at("direction").get<std::vector<double>>();
   MapPush m{run.r.name, direction_deg({dir[0], dir[1], dir[2]}), j.at("force_N").get<double>(), 0, j.at("duration_s").get<double>(), 0,
             j.at("survived").get<bool>(), j.at("lipm")};
+  if (m.survived) add_swing_peaks(run, file, g);
   const double start = j.at("start_s").get<double>();
   m.origin_s = phase_origin(run, v, start);
   m.phase_s = std::round((start - m.origin_s) * 1e6) / 1e6;
@@ -269,6 +287,8 @@ ExperimentResult push_map(const ExperimentSetup& e, const std::vector<VariantRes
     m["certified"] = certified(g, mp);
     for (double deg : dirs) m["directions"][fmt::format("{:g}", deg)] = direction_metrics(g, deg, bnd);
     m["boundary"] = bnd;
+    m["swing_foot"] = {{"runs", g.stood}, {"peak_speed_m_s", g.stood ? nlohmann::json(g.swing_speed_m_s) : nlohmann::json(nullptr)},
+                       {"peak_accel_m_s2", g.stood ? nlohmann::json(g.swing_accel_m_s2) : nlohmann::json(nullptr)}};
     res.figures.emplace_back("push_map_" + detail::file_safe(name) + ".png", map_figure(e, name, g, dirs, bnd));
     const auto& c = m["certified"];
     res.notes.push_back(fmt::format("Push map '{}': {} of {} pushes capturable with a margin of at least {} m were survived: {}.", name,

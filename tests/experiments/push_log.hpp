@@ -49,7 +49,7 @@ inline dmbd::sim::VariantResult log(bool outside_a, double swing_y = 0.25) {
                                          "balance.landings", "balance.qp_failures", "balance.com_x", "balance.com_y", "balance.com_vx",
                                          "balance.com_vy", "balance.stance_x", "balance.stance_y", "balance.swing_x", "balance.swing_y",
                                          "balance.foothold_x", "balance.foothold_y", "balance.landed_x", "balance.landed_y",
-                                         "balance.planned_x", "balance.planned_y"};
+                                         "balance.planned_x", "balance.planned_y", "balance.step"};
   for (const auto& c : cols) r.log.add_column(c, "");
   auto set = [&](const std::string& c, double v) { r.log.set(r.log.find(c), v); };
   for (int k = 0; k <= 600; ++k) {

@@ -210,6 +210,8 @@ namespace {
 //   unrelated point (a miss of 1 m) from a touch-down until its landing;
 //   com_vy = ±0.1 flipping sign from samples 420, 475, 575, 625, 800 and 920 on (0 at
 //   sample 520: no change of sign);
+//   the swing foot at (1.5 t, 2 t²) (speed hypot(1.5, 4t), acceleration 4), in the swing
+//   phase (4) of step 7 over samples 600–699 only;
 //   com_x = 0.02 t, com_y = 0.01 sin t (from the first touch-down on the distance grows
 //   monotonically: its largest value is at the last sample before the fall);
 //   the fall (by `fall`: base.z 0.5 < 0.6 m, or base.tilt 0.6 > 0.5 rad) from sample 900.
@@ -221,7 +223,8 @@ dmbd::sim::VariantResult stepping_log(const std::string& name, Fall fall, Therma
   dmbd::sim::VariantResult r;
   r.name = name;
   std::vector<std::string> cols = {"base.z", "base.tilt", "balance.phase", "balance.swing_side", "balance.touch_downs",
-                                   "balance.landings", "balance.qp_failures", "balance.com_x", "balance.com_y", "balance.com_vy", "balance.landed_x",
+                                   "balance.landings", "balance.qp_failures", "balance.com_x", "balance.com_y", "balance.com_vy", "balance.swing_x",
+                                   "balance.swing_y", "balance.step", "balance.landed_x",
                                    "balance.landed_y", "balance.planned_x", "balance.planned_y", "l_knee.q", "l_knee.q_des",
                                    "l_ankle.q", "l_ankle.q_des", "r_knee.q", "r_knee.q_des"};
   if (thermal == Thermal::Single) cols.push_back("l_knee.T_winding");
@@ -256,6 +259,11 @@ dmbd::sim::VariantResult stepping_log(const std::string& name, Fall fall, Therma
     for (const char* c : {"balance.phase", "balance.swing_side", "l_knee.q", "l_knee.q_des", "l_ankle.q", "l_ankle.q_des", "r_knee.q",
                           "r_knee.q_des"})
       set(c, 0.0);
+    const bool swinging = k >= 600 && k < 700;  // one swing (phase 4) of step 7
+    set("balance.phase", swinging ? 4.0 : 0.0);
+    set("balance.step", swinging ? 7.0 : 0.0);
+    set("balance.swing_x", 1.5 * t);
+    set("balance.swing_y", 2.0 * t * t);
     if (thermal == Thermal::Single) set("l_knee.T_winding", 60 - t);  // 60 at t = 0
     if (thermal == Thermal::Both) {
       set("l_knee.T_winding_cooled", 30 + t);        // 40 at the end
@@ -318,6 +326,10 @@ TEST(SimBalanceExperiment, MetricsOfASyntheticSteppingRun) {
   // From the first touch-down (4.5 s) to the last sample before the fall (8.99 s).
   EXPECT_NEAR(h.at("com_max_distance_m").get<double>(), std::hypot(0.02 * 4.49, 0.01 * (std::sin(8.99) - std::sin(4.5))), 1e-12);
   EXPECT_NEAR(h.at("com_max_distance_at_s").get<double>(), 8.99, 1e-12);
+  // The last stencil inside the swing is centred on sample 697 (6.97 s); the central
+  // differences are exact on these polynomials (to roundoff, 1e-9).
+  EXPECT_NEAR(h.at("swing_foot_peak_speed_m_s").get<double>(), std::hypot(1.5, 4 * 6.97), 1e-9);
+  EXPECT_NEAR(h.at("swing_foot_peak_accel_m_s2").get<double>(), 4.0, 1e-6);
   EXPECT_DOUBLE_EQ(h.at("peak_winding_C").at("cooled").get<double>(), 45.0);
   EXPECT_DOUBLE_EQ(h.at("peak_winding_C").at("uncooled").get<double>(), 80.0);
   EXPECT_DOUBLE_EQ(h.at("wbc_tick_us").at("median").get<double>(), 120.0);

@@ -93,6 +93,10 @@ TEST(PushMap, TheBoundaryIsWhereThePushTakesTheCapturePointToTheIntervalsEdge) {
   EXPECT_TRUE(d0.at("largest_force_survived_at_every_phase_N").is_null());
   EXPECT_NEAR(d0.at("by_phase").at(0).at("boundary_N").get<double>(), (kAx.hi - ex) / per_newton, 1e-6);
   EXPECT_EQ(d0.at("by_phase").at(0).at("largest_survived_N").get<double>(), 0.0);
+  // The swing foot's peaks come from the runs that stood: the reference only (its foot
+  // rests at (−0.05, 0.25) through the swing).
+  EXPECT_EQ(m.at("swing_foot").at("runs").get<int>(), 1);
+  EXPECT_EQ(m.at("swing_foot").at("peak_speed_m_s").get<double>(), 0.0);
 }
 
 TEST(PushMap, EachPushIsJudgedInItsOwnRunAndTheCertifiedSetDecides) {
