@@ -10,7 +10,7 @@ namespace dmbd::wholebody {
 
 PrioritizedIk::PrioritizedIk(int nv, int contact_dim, const std::vector<int>& task_dims, double sv_threshold)
     : nv_(nv),
-      weights_(Eigen::MatrixXd::Identity(nv, nv)),
+      sqrt_w_(Eigen::VectorXd::Ones(nv)),
       N_(nv, nv),
       N_next_(nv, nv),
       dq_(nv),
@@ -30,7 +30,7 @@ PrioritizedIk::PrioritizedIk(int nv, int contact_dim, const std::vector<int>& ta
 void PrioritizedIk::set_weights(const Eigen::Ref<const Eigen::VectorXd>& w) {
   if (w.size() != nv_) throw InputError("prioritized IK: " + std::to_string(w.size()) + " weights for " + std::to_string(nv_) + " coordinates");
   if (!w.allFinite() || (w.array() <= 0.0).any()) throw InputError("prioritized IK: the weights must be positive and finite");
-  weights_.compute(w.asDiagonal().toDenseMatrix());
+  sqrt_w_ = w.cwiseSqrt();  // W's Cholesky factor (the square roots a factorisation of diag(w) takes)
 }
 
 void PrioritizedIk::solve(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c,
@@ -51,7 +51,7 @@ void PrioritizedIk::start(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Ei
     qdd_.setZero();
     return;
   }
-  contact_pinv_->compute(weights_, J_c);
+  contact_pinv_->compute_diagonal(sqrt_w_, J_c);
   N_ = contact_pinv_->N();
   qdd_.noalias() = -contact_pinv_->Jbar() * Jc_dot_v;
 }
@@ -65,7 +65,7 @@ void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
   Eigen::MatrixXd& J_pre = J_pre_[k];
   Eigen::VectorXd& res = residual_[k];
   J_pre.noalias() = J * N_;
-  pinv_[k]->compute(weights_, J_pre);
+  pinv_[k]->compute_diagonal(sqrt_w_, J_pre);
   res = task.error();
   res.noalias() -= J * dq_;
   dq_.noalias() += pinv_[k]->Jbar() * res;

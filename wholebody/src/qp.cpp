@@ -25,6 +25,14 @@ constexpr double kDependent = 1e-13;
 // A constraint counts as violated below −kFeasible · its scale (|b|, ‖c‖ ‖x‖, 1).
 constexpr double kFeasible = 1e-10;
 
+// Every off-diagonal entry exactly 0.
+bool is_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G) {
+  for (Eigen::Index j = 0; j < G.cols(); ++j)
+    for (Eigen::Index i = 0; i < G.rows(); ++i)
+      if (i != j && G(i, j) != 0.0) return false;
+  return true;
+}
+
 }  // namespace
 
 const char* to_string(QpStatus s) {
@@ -54,6 +62,7 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       lambda_eq_(m_eq),
       mu_in_(m_in),
       Gx_(n),
+      norm_in_(m_in),
       working_(n),
       is_active_(m_in) {}
 
@@ -71,6 +80,7 @@ QpStatus QpSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen
   assert(C_in.rows() == m_in_ && C_in.cols() == n_ && b_in.size() == m_in_);
   CeqT_ = C_eq.transpose();
   CinT_ = C_in.transpose();
+  for (int i = 0; i < m_in_; ++i) norm_in_[i] = CinT_.col(i).norm();  // most_violated's scales, once a solve
   iterations_ = 0;
   if (!start(G, a)) return QpStatus::NotPositiveDefinite;
   if (!add_equalities(b_eq)) return QpStatus::Infeasible;
@@ -81,16 +91,36 @@ QpStatus QpSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen
 
 // The unconstrained minimum x = −G⁻¹ a, J = L⁻ᵀ, an empty working set.
 bool QpSolver::start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a) {
-  llt_.compute(G);
-  if (llt_.info() != Eigen::Success) return false;
-  J_.setIdentity();
-  llt_.matrixU().solveInPlace(J_);  // Lᵀ J = I
   x_ = -a;
-  llt_.solveInPlace(x_);
+  if (is_diagonal(G)) {
+    if (!start_diagonal(G)) return false;
+  } else {
+    llt_.compute(G);
+    if (llt_.info() != Eigen::Success) return false;
+    J_.setIdentity();
+    llt_.matrixU().solveInPlace(J_);  // Lᵀ J = I
+    llt_.solveInPlace(x_);
+  }
   R_.setZero();
   u_.setZero();
   is_active_.setConstant(false);
   q_ = 0;
+  return true;
+}
+
+// G = diag(g) (the whole-body QP's cost): L = diag(√g), J = L⁻ᵀ = diag(1/√g) and
+// x = −a/g without the dense factorisation and triangular solves (most of a solve's
+// start). Evaluated as those solves do on a diagonal L, to the bit: the matrix solve
+// multiplies by the reciprocal 1/√g, the vector solves divide by √g twice. Fails as
+// the Cholesky factorisation does, on a diagonal entry ≤ 0.
+bool QpSolver::start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G) {
+  J_.setZero();
+  for (int i = 0; i < n_; ++i) {
+    if (G(i, i) <= 0.0) return false;
+    const double l = std::sqrt(G(i, i));
+    J_(i, i) = 1.0 / l;
+    x_[i] = x_[i] / l / l;
+  }
   return true;
 }
 
@@ -128,7 +158,7 @@ int QpSolver::most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, doubl
   for (int i = 0; i < m_in_; ++i) {
     if (is_active_[i]) continue;
     const double s = CinT_.col(i).dot(x_) - b_in[i];
-    const double scale = std::max({1.0, std::abs(b_in[i]), CinT_.col(i).norm() * x_norm});
+    const double scale = std::max({1.0, std::abs(b_in[i]), norm_in_[i] * x_norm});
     if (s < -kFeasible * scale && (p < 0 || s < slack)) {
       p = i;
       slack = s;

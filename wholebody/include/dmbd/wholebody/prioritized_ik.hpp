@@ -27,7 +27,6 @@
 #include <memory>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "dmbd/wholebody/projection.hpp"
@@ -61,7 +60,7 @@ class PrioritizedIk {
   void add_task(const ModelData& data, const Task& task, int i);
 
   int nv_;
-  Eigen::LLT<Eigen::MatrixXd> weights_;  // J⁺ is the A-weighted inverse with A = W (I by default)
+  Eigen::VectorXd sqrt_w_;  // J⁺ is the A-weighted inverse with A = W = diag(sqrt_w_)² (I by default)
   std::unique_ptr<DynamicallyConsistentInverse> contact_pinv_;
   std::vector<std::unique_ptr<DynamicallyConsistentInverse>> pinv_;       // per task
   std::vector<Eigen::MatrixXd> J_pre_;                                      // per task

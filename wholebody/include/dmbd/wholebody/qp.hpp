@@ -47,6 +47,7 @@ class QpSolver {
 
  private:
   bool start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
+  bool start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G);  // G diagonal
   bool add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq);
   QpStatus add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_in);
   int most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack) const;
@@ -63,6 +64,7 @@ class QpSolver {
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::MatrixXd J_, R_;
   Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
+  Eigen::VectorXd norm_in_;           // ‖C_in row i‖ of this solve
   Eigen::VectorXi working_;           // constraint index (as in normal()) per position
   Eigen::Matrix<bool, Eigen::Dynamic, 1> is_active_;  // per inequality
   double f_ = 0;
