@@ -14,8 +14,11 @@
 // most violated inequality at a time, dropping active ones whose multipliers would turn
 // negative; the factorisation J = L⁻ᵀ Q and the triangular R are kept up to date by
 // Givens rotations. Storage is sized by the constructor; solve() allocates nothing.
+#include <vector>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Jacobi>
 
 namespace dmbd::wholebody {
 
@@ -56,6 +59,7 @@ class QpSolver {
   void step_directions(const Eigen::Ref<const Eigen::VectorXd>& n);  // d, z, r for normal n
   double partial_step(int& position) const;  // the dual step limit over active inequalities
   bool add_to_working_set(int k);            // with d_ of its normal; false if dependent
+  void rotate_columns(int a, int b, const Eigen::JacobiRotation<double>& g);  // J ← J G
   void drop_from_working_set(int position);
   void finish(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
 
@@ -65,6 +69,10 @@ class QpSolver {
   Eigen::MatrixXd J_, R_;
   Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
   Eigen::VectorXd norm_in_;           // ‖C_in row i‖ of this solve
+  struct RowRange {
+    int first, last;
+  };
+  std::vector<RowRange> rows_;        // per column of J: outside these rows it is 0
   Eigen::VectorXi working_;           // constraint index (as in normal()) per position
   Eigen::Matrix<bool, Eigen::Dynamic, 1> is_active_;  // per inequality
   double f_ = 0;
