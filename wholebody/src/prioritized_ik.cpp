@@ -12,7 +12,6 @@ PrioritizedIk::PrioritizedIk(int nv, int contact_dim, const std::vector<int>& ta
     : nv_(nv),
       sqrt_w_(Eigen::VectorXd::Ones(nv)),
       N_(nv, nv),
-      N_next_(nv, nv),
       dq_(nv),
       qd_(nv),
       qdd_(nv) {
@@ -21,7 +20,7 @@ PrioritizedIk::PrioritizedIk(int nv, int contact_dim, const std::vector<int>& ta
   const double eig_threshold = sv_threshold * sv_threshold;
   contact_pinv_ = std::make_unique<DynamicallyConsistentInverse>(contact_dim, nv, eig_threshold);
   for (int m : task_dims) {
-    pinv_.push_back(std::make_unique<DynamicallyConsistentInverse>(m, nv, eig_threshold));
+    pinv_.push_back(std::make_unique<DynamicallyConsistentInverse>(m, nv, eig_threshold, false));  // N: add_task
     J_pre_.emplace_back(m, nv);
     residual_.emplace_back(m);
   }
@@ -57,7 +56,10 @@ void PrioritizedIk::start(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Ei
 }
 
 // One task in the null space of those above: the three updates of the header, then
-// N ← N (I − J_pre⁺ J_pre).
+// N ← N (I − J_pre⁺ J_pre), formed as N − J_pre⁺ J_pre (a rank-m update instead of an
+// nv x nv product). The two are equal: N is a W-orthogonal projector (N² = N and
+// N W⁻¹ = W⁻¹ Nᵀ, true of N₀ and kept by each step), so with J_pre = J N,
+// J_pre⁺ = W⁻¹ Nᵀ Jᵀ Λ = N W⁻¹ Jᵀ Λ and N J_pre⁺ = N² W⁻¹ Jᵀ Λ = J_pre⁺.
 void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
   const auto k = static_cast<size_t>(i);
   const Eigen::MatrixXd& J = task.jacobian();
@@ -77,8 +79,7 @@ void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
   res = task.command() - task.jacobian_dot_v();
   res.noalias() -= J * qdd_;
   qdd_.noalias() += pinv_[k]->Jbar() * res;
-  N_next_.noalias() = N_ * pinv_[k]->N();
-  N_.swap(N_next_);
+  N_.noalias() -= pinv_[k]->Jbar() * J_pre;
 }
 
 }  // namespace dmbd::wholebody
