@@ -242,9 +242,20 @@ QpStatus QpSolver::add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_i
 // identity (which Eigen skips as well) leaves them.
 void QpSolver::rotate_columns(int a, int b, const Eigen::JacobiRotation<double>& g) {
   if (g.c() == 1.0 && g.s() == 0.0) return;
-  const RowRange r{std::min(rows_[a].first, rows_[b].first), std::max(rows_[a].last, rows_[b].last)};
-  J_.middleRows(r.first, r.last - r.first + 1).applyOnTheRight(a, b, g);
-  rows_[a] = rows_[b] = r;
+  const int first = std::min(rows_[a].first, rows_[b].first), last = std::max(rows_[a].last, rows_[b].last);
+  // [x y] ← [x y] [c −s; s c]ᵀ... as Eigen's applyOnTheRight(a, b, g) computes it, entry
+  // for entry (x ← c x − s y, y ← s x + c y), in a plain loop the compiler vectorises
+  // without the alignment handling that dominates Eigen's on these short columns.
+  double* __restrict x = &J_(first, a);
+  double* __restrict y = &J_(first, b);
+  const double c = g.c(), s = g.s();
+  for (int i = 0; i <= last - first; ++i) {
+    const double xi = x[i], yi = y[i];
+    x[i] = c * xi - s * yi;
+    y[i] = s * xi + c * yi;
+  }
+  rows_[a].first = rows_[b].first = first;  // field by field: no 8-byte reload of 4-byte stores
+  rows_[a].last = rows_[b].last = last;
 }
 
 // Rotates d₂ into its first entry (J's columns rotated alike), so that Jᵀ n = [R(:, q); 0].
