@@ -8,6 +8,7 @@
 // set's multipliers per unit of the new one). zᵀ n = ‖d₂‖² ≥ 0 is the curvature along z.
 #include "dmbd/wholebody/qp.hpp"
 
+#include <Eigen/Householder>
 #include <Eigen/Jacobi>
 
 #include <algorithm>
@@ -80,6 +81,7 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       Gx_(n),
       norm_in_(m_in),
       rows_(static_cast<size_t>(n)),
+      house_(n),
       working_(n),
       is_active_(m_in) {}
 
@@ -148,7 +150,12 @@ void QpSolver::step_directions(const Eigen::Ref<const Eigen::VectorXd>& n) {
   d_.noalias() = J_.transpose() * n;
   z_.noalias() = J_.rightCols(n_ - q_) * d_.tail(n_ - q_);
   r_.head(q_) = d_.head(q_);
-  R_.topLeftCorner(q_, q_).triangularView<Eigen::Upper>().solveInPlace(r_.head(q_));
+  // R r = d₁ by back substitution, a column at a time (Eigen's triangular solve splits
+  // even these few rows into panels and a matrix-vector product).
+  for (int k = q_ - 1; k >= 0; --k) {
+    r_[k] /= R_(k, k);
+    r_.head(k) -= r_[k] * R_.col(k).head(k);
+  }
 }
 
 // Each equality by a full step of either sign onto it: x += t z with t = (b − nᵀx)/zᵀn.
@@ -258,14 +265,26 @@ void QpSolver::rotate_columns(int a, int b, const Eigen::JacobiRotation<double>&
   rows_[a].last = rows_[b].last = last;
 }
 
-// Rotates d₂ into its first entry (J's columns rotated alike), so that Jᵀ n = [R(:, q); 0].
+// Turns d₂ into β e₁ (J₂ transformed alike) so that Jᵀ n = [R(:, q); 0]: one Householder
+// reflection H = I − τ v vᵀ (v = [1; essential part], H d₂ = β e₁, |β| = ‖d₂‖) and
+// J₂ ← J₂ H, so that (J₂ H)ᵀ n = H d₂. A rank-one update of J₂ instead of n − q − 1
+// Givens rotations, whose chain through d (each one's sine and cosine wait for the
+// last) was the solver's largest cost. H mixes every column of J₂: they share the
+// union of their row ranges afterwards.
 bool QpSolver::add_to_working_set(int k) {
-  for (int j = n_ - 1; j > q_; --j) {
-    Eigen::JacobiRotation<double> g;
-    g.makeGivens(d_[j - 1], d_[j], &d_[j - 1]);
-    d_[j] = 0.0;
-    rotate_columns(j - 1, j, g);
+  const int m = n_ - q_;
+  auto d2 = d_.tail(m);
+  double tau = 0.0, beta = 0.0;
+  d2.makeHouseholderInPlace(tau, beta);
+  int first = n_, last = -1;
+  for (int j = q_; j < n_; ++j) {
+    first = std::min(first, rows_[j].first);
+    last = std::max(last, rows_[j].last);
   }
+  J_.block(first, q_, last - first + 1, m).applyHouseholderOnTheRight(d2.tail(m - 1), tau, house_.data());
+  for (int j = q_; j < n_; ++j) rows_[j] = {first, last};
+  d2[0] = beta;
+  d2.tail(m - 1).setZero();
   if (!(d_[q_] * d_[q_] > kDependent * d_.squaredNorm())) return false;
   R_.col(q_).head(q_ + 1) = d_.head(q_ + 1);
   working_[q_] = k;

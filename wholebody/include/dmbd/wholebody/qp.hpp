@@ -73,6 +73,7 @@ class QpSolver {
     int first, last;
   };
   std::vector<RowRange> rows_;        // per column of J: outside these rows it is 0
+  Eigen::VectorXd house_;             // add_to_working_set's workspace (n)
   Eigen::VectorXi working_;           // constraint index (as in normal()) per position
   Eigen::Matrix<bool, Eigen::Dynamic, 1> is_active_;  // per inequality
   double f_ = 0;
