@@ -80,7 +80,6 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       mu_in_(m_in),
       Gx_(n),
       norm_in_(m_in),
-      rows_(static_cast<size_t>(n)),
       house_(n),
       working_(n),
       is_active_(m_in) {}
@@ -117,9 +116,8 @@ bool QpSolver::start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Re
     llt_.compute(G);
     if (llt_.info() != Eigen::Success) return false;
     J_.setIdentity();
-    llt_.matrixU().solveInPlace(J_);  // Lᵀ J = I: J upper triangular
+    llt_.matrixU().solveInPlace(J_);  // Lᵀ J = I
     llt_.solveInPlace(x_);
-    for (int j = 0; j < n_; ++j) rows_[j] = {0, j};
   }
   R_.setZero();
   u_.setZero();
@@ -140,7 +138,6 @@ bool QpSolver::start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G) {
     const double l = std::sqrt(G(i, i));
     J_(i, i) = 1.0 / l;
     x_[i] = x_[i] / l / l;
-    rows_[i] = {i, i};
   }
   return true;
 }
@@ -242,47 +239,17 @@ QpStatus QpSolver::add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_i
   return QpStatus::Optimal;
 }
 
-// J (columns a, b) ← J G, over the rows where either column may be nonzero: a row
-// that is 0 in both stays 0 under a rotation, so leaving it out changes no value. About
-// 40 % of the rows the whole-body QP's rotations would touch are such rows (J starts
-// diagonal and fills in as constraints enter). The two columns' row ranges merge; the
-// identity (which Eigen skips as well) leaves them.
-void QpSolver::rotate_columns(int a, int b, const Eigen::JacobiRotation<double>& g) {
-  if (g.c() == 1.0 && g.s() == 0.0) return;
-  const int first = std::min(rows_[a].first, rows_[b].first), last = std::max(rows_[a].last, rows_[b].last);
-  // [x y] ← [x y] [c −s; s c]ᵀ... as Eigen's applyOnTheRight(a, b, g) computes it, entry
-  // for entry (x ← c x − s y, y ← s x + c y), in a plain loop the compiler vectorises
-  // without the alignment handling that dominates Eigen's on these short columns.
-  double* __restrict x = &J_(first, a);
-  double* __restrict y = &J_(first, b);
-  const double c = g.c(), s = g.s();
-  for (int i = 0; i <= last - first; ++i) {
-    const double xi = x[i], yi = y[i];
-    x[i] = c * xi - s * yi;
-    y[i] = s * xi + c * yi;
-  }
-  rows_[a].first = rows_[b].first = first;  // field by field: no 8-byte reload of 4-byte stores
-  rows_[a].last = rows_[b].last = last;
-}
-
 // Turns d₂ into β e₁ (J₂ transformed alike) so that Jᵀ n = [R(:, q); 0]: one Householder
 // reflection H = I − τ v vᵀ (v = [1; essential part], H d₂ = β e₁, |β| = ‖d₂‖) and
-// J₂ ← J₂ H, so that (J₂ H)ᵀ n = H d₂. A rank-one update of J₂ instead of n − q − 1
-// Givens rotations, whose chain through d (each one's sine and cosine wait for the
-// last) was the solver's largest cost. H mixes every column of J₂: they share the
-// union of their row ranges afterwards.
+// J₂ ← J₂ H, so that (J₂ H)ᵀ n = H d₂. A matrix-vector product and a rank-one update
+// of J₂ instead of n − q − 1 Givens rotations, whose chain through d (each rotation's
+// sine and cosine wait for the last one's) was the solver's largest cost.
 bool QpSolver::add_to_working_set(int k) {
   const int m = n_ - q_;
   auto d2 = d_.tail(m);
   double tau = 0.0, beta = 0.0;
   d2.makeHouseholderInPlace(tau, beta);
-  int first = n_, last = -1;
-  for (int j = q_; j < n_; ++j) {
-    first = std::min(first, rows_[j].first);
-    last = std::max(last, rows_[j].last);
-  }
-  J_.block(first, q_, last - first + 1, m).applyHouseholderOnTheRight(d2.tail(m - 1), tau, house_.data());
-  for (int j = q_; j < n_; ++j) rows_[j] = {first, last};
+  J_.rightCols(m).applyHouseholderOnTheRight(d2.tail(m - 1), tau, house_.data());
   d2[0] = beta;
   d2.tail(m - 1).setZero();
   if (!(d_[q_] * d_[q_] > kDependent * d_.squaredNorm())) return false;
@@ -308,7 +275,7 @@ void QpSolver::drop_from_working_set(int l) {
     g.makeGivens(R_(j, j), R_(j + 1, j), &R_(j, j));
     R_(j + 1, j) = 0.0;
     R_.rightCols(n_ - j - 1).applyOnTheLeft(j, j + 1, g.adjoint());
-    rotate_columns(j, j + 1, g);
+    J_.applyOnTheRight(j, j + 1, g);
   }
 }
 

@@ -12,13 +12,11 @@
 //
 // The method starts from the unconstrained minimum, adds the equalities, then adds the
 // most violated inequality at a time, dropping active ones whose multipliers would turn
-// negative; the factorisation J = L⁻ᵀ Q and the triangular R are kept up to date by
-// Givens rotations. Storage is sized by the constructor; solve() allocates nothing.
-#include <vector>
-
+// negative; the factorisation J = L⁻ᵀ Q and the triangular R are kept up to date (a
+// Householder reflection when a constraint enters, Givens rotations when one leaves).
+// Storage is sized by the constructor; solve() allocates nothing.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <Eigen/Jacobi>
 
 namespace dmbd::wholebody {
 
@@ -59,7 +57,6 @@ class QpSolver {
   void step_directions(const Eigen::Ref<const Eigen::VectorXd>& n);  // d, z, r for normal n
   double partial_step(int& position) const;  // the dual step limit over active inequalities
   bool add_to_working_set(int k);            // with d_ of its normal; false if dependent
-  void rotate_columns(int a, int b, const Eigen::JacobiRotation<double>& g);  // J ← J G
   void drop_from_working_set(int position);
   void finish(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
 
@@ -69,10 +66,6 @@ class QpSolver {
   Eigen::MatrixXd J_, R_;
   Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
   Eigen::VectorXd norm_in_;           // ‖C_in row i‖ of this solve
-  struct RowRange {
-    int first, last;
-  };
-  std::vector<RowRange> rows_;        // per column of J: outside these rows it is 0
   Eigen::VectorXd house_;             // add_to_working_set's workspace (n)
   Eigen::VectorXi working_;           // constraint index (as in normal()) per position
   Eigen::Matrix<bool, Eigen::Dynamic, 1> is_active_;  // per inequality
