@@ -80,6 +80,7 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       mu_in_(m_in),
       Gx_(n),
       norm_in_(m_in),
+      slack_in_(m_in),
       house_(n),
       working_(n),
       is_active_(m_in) {}
@@ -173,14 +174,17 @@ bool QpSolver::add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq) {
 }
 
 // The inequality with the most negative slack nᵀx − b among those not in the working
-// set, or −1 when none is violated beyond its tolerance.
-int QpSolver::most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack) const {
+// set, or −1 when none is violated beyond its tolerance. The slacks by one product
+// C_in x (one matrix-vector product rather than a dot product per row).
+int QpSolver::most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack) {
   int p = -1;
   slack = 0;
   const double x_norm = x_.norm();
+  slack_in_.noalias() = CinT_.transpose() * x_;
+  slack_in_ -= b_in;
   for (int i = 0; i < m_in_; ++i) {
     if (is_active_[i]) continue;
-    const double s = CinT_.col(i).dot(x_) - b_in[i];
+    const double s = slack_in_[i];
     const double scale = std::max({1.0, std::abs(b_in[i]), norm_in_[i] * x_norm});
     if (s < -kFeasible * scale && (p < 0 || s < slack)) {
       p = i;
