@@ -10,9 +10,8 @@ namespace dmbd::wholebody {
 
 PrioritizedIk::PrioritizedIk(int nv, int contact_dim, const std::vector<int>& task_dims, double sv_threshold)
     : nv_(nv),
-      weights_(Eigen::MatrixXd::Identity(nv, nv)),
+      sqrt_w_(Eigen::VectorXd::Ones(nv)),
       N_(nv, nv),
-      N_next_(nv, nv),
       dq_(nv),
       qd_(nv),
       qdd_(nv) {
@@ -21,7 +20,7 @@ PrioritizedIk::PrioritizedIk(int nv, int contact_dim, const std::vector<int>& ta
   const double eig_threshold = sv_threshold * sv_threshold;
   contact_pinv_ = std::make_unique<DynamicallyConsistentInverse>(contact_dim, nv, eig_threshold);
   for (int m : task_dims) {
-    pinv_.push_back(std::make_unique<DynamicallyConsistentInverse>(m, nv, eig_threshold));
+    pinv_.push_back(std::make_unique<DynamicallyConsistentInverse>(m, nv, eig_threshold, false));  // N: add_task
     J_pre_.emplace_back(m, nv);
     residual_.emplace_back(m);
   }
@@ -30,7 +29,7 @@ PrioritizedIk::PrioritizedIk(int nv, int contact_dim, const std::vector<int>& ta
 void PrioritizedIk::set_weights(const Eigen::Ref<const Eigen::VectorXd>& w) {
   if (w.size() != nv_) throw InputError("prioritized IK: " + std::to_string(w.size()) + " weights for " + std::to_string(nv_) + " coordinates");
   if (!w.allFinite() || (w.array() <= 0.0).any()) throw InputError("prioritized IK: the weights must be positive and finite");
-  weights_.compute(w.asDiagonal().toDenseMatrix());
+  sqrt_w_ = w.cwiseSqrt();  // W's Cholesky factor (the square roots a factorisation of diag(w) takes)
 }
 
 void PrioritizedIk::solve(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c,
@@ -51,13 +50,16 @@ void PrioritizedIk::start(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Ei
     qdd_.setZero();
     return;
   }
-  contact_pinv_->compute(weights_, J_c);
+  contact_pinv_->compute_diagonal(sqrt_w_, J_c);
   N_ = contact_pinv_->N();
   qdd_.noalias() = -contact_pinv_->Jbar() * Jc_dot_v;
 }
 
 // One task in the null space of those above: the three updates of the header, then
-// N ← N (I − J_pre⁺ J_pre).
+// N ← N (I − J_pre⁺ J_pre), formed as N − J_pre⁺ J_pre (a rank-m update instead of an
+// nv x nv product). The two are equal: N is a W-orthogonal projector (N² = N and
+// N W⁻¹ = W⁻¹ Nᵀ, true of N₀ and kept by each step), so with J_pre = J N,
+// J_pre⁺ = W⁻¹ Nᵀ Jᵀ Λ = N W⁻¹ Jᵀ Λ and N J_pre⁺ = N² W⁻¹ Jᵀ Λ = J_pre⁺.
 void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
   const auto k = static_cast<size_t>(i);
   const Eigen::MatrixXd& J = task.jacobian();
@@ -65,7 +67,7 @@ void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
   Eigen::MatrixXd& J_pre = J_pre_[k];
   Eigen::VectorXd& res = residual_[k];
   J_pre.noalias() = J * N_;
-  pinv_[k]->compute(weights_, J_pre);
+  pinv_[k]->compute_diagonal(sqrt_w_, J_pre);
   res = task.error();
   res.noalias() -= J * dq_;
   dq_.noalias() += pinv_[k]->Jbar() * res;
@@ -77,8 +79,7 @@ void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
   res = task.command() - task.jacobian_dot_v();
   res.noalias() -= J * qdd_;
   qdd_.noalias() += pinv_[k]->Jbar() * res;
-  N_next_.noalias() = N_ * pinv_[k]->N();
-  N_.swap(N_next_);
+  N_.noalias() -= pinv_[k]->Jbar() * J_pre;
 }
 
 }  // namespace dmbd::wholebody

@@ -68,8 +68,28 @@ void DynamicallyConsistentInverse::compute(const Eigen::LLT<Eigen::MatrixXd>& A_
                                            const Eigen::Ref<const Eigen::MatrixXd>& J) {
   assert(A_factor.rows() == AinvJt_.rows() && J.rows() == JAJt_.rows() && J.cols() == AinvJt_.rows());
   factor_ = &A_factor;
+  diagonal_factor_ = nullptr;
   AinvJt_ = J.transpose();
   A_factor.solveInPlace(AinvJt_);
+  finish(J);
+}
+
+// A = L Lᵀ with L = diag(l): A⁻¹Jᵀ = L⁻ᵀ L⁻¹ Jᵀ, row i of Jᵀ times 1/l_i twice, as
+// Eigen's triangular matrix solves do (a product with the diagonal's reciprocal).
+void DynamicallyConsistentInverse::compute_diagonal(const Eigen::VectorXd& A_sqrt, const Eigen::Ref<const Eigen::MatrixXd>& J) {
+  assert(A_sqrt.size() == AinvJt_.rows() && J.rows() == JAJt_.rows() && J.cols() == AinvJt_.rows());
+  diagonal_factor_ = &A_sqrt;
+  AinvJt_ = J.transpose();
+  for (Eigen::Index i = 0; i < AinvJt_.rows(); ++i) {
+    const double r = 1.0 / A_sqrt[i];
+    AinvJt_.row(i) *= r;
+    AinvJt_.row(i) *= r;
+  }
+  finish(J);
+}
+
+// Λ, J̄ = A⁻¹JᵀΛ and N = I − J̄J, with A⁻¹Jᵀ in AinvJt_.
+void DynamicallyConsistentInverse::finish(const Eigen::Ref<const Eigen::MatrixXd>& J) {
   JAJt_.noalias() = J * AinvJt_;
   compute_lambda();
   Jbar_.noalias() = AinvJt_ * Lambda_;
@@ -127,6 +147,11 @@ void DynamicallyConsistentInverse::lambda_by_eigen() {
 void DynamicallyConsistentInverse::solve_A(const Eigen::Ref<const Eigen::VectorXd>& y,
                                            Eigen::Ref<Eigen::VectorXd> x) const {
   x = y;
+  if (diagonal_factor_) {  // as the factored path's vector solves: two divisions
+    x.array() /= diagonal_factor_->array();
+    x.array() /= diagonal_factor_->array();
+    return;
+  }
   factor_->solveInPlace(x);
 }
 

@@ -8,11 +8,14 @@
 // set's multipliers per unit of the new one). zᵀ n = ‖d₂‖² ≥ 0 is the curvature along z.
 #include "dmbd/wholebody/qp.hpp"
 
+#include <Eigen/Householder>
 #include <Eigen/Jacobi>
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace dmbd::wholebody {
@@ -24,6 +27,28 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDependent = 1e-13;
 // A constraint counts as violated below −kFeasible · its scale (|b|, ‖c‖ ‖x‖, 1).
 constexpr double kFeasible = 1e-10;
+
+// Every off-diagonal entry exactly 0. A double is ±0 exactly when its bits other than
+// the sign are all 0: the bits, shifted left by one, or-ed over a column's entries above
+// and below its diagonal (a loop the compiler vectorises; a NaN is not 0).
+std::uint64_t magnitude_bits(const double* x, Eigen::Index count) {
+  std::uint64_t any = 0;
+  for (Eigen::Index i = 0; i < count; ++i) {
+    std::uint64_t b;
+    std::memcpy(&b, x + i, sizeof b);
+    any |= b << 1;
+  }
+  return any;
+}
+
+bool is_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G) {
+  const Eigen::Index n = G.rows();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double* c = G.col(j).data();
+    if ((magnitude_bits(c, j) | magnitude_bits(c + j + 1, n - j - 1)) != 0) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -54,6 +79,9 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       lambda_eq_(m_eq),
       mu_in_(m_in),
       Gx_(n),
+      norm_in_(m_in),
+      slack_in_(m_in),
+      house_(n),
       working_(n),
       is_active_(m_in) {}
 
@@ -71,6 +99,7 @@ QpStatus QpSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen
   assert(C_in.rows() == m_in_ && C_in.cols() == n_ && b_in.size() == m_in_);
   CeqT_ = C_eq.transpose();
   CinT_ = C_in.transpose();
+  for (int i = 0; i < m_in_; ++i) norm_in_[i] = CinT_.col(i).norm();  // most_violated's scales, once a solve
   iterations_ = 0;
   if (!start(G, a)) return QpStatus::NotPositiveDefinite;
   if (!add_equalities(b_eq)) return QpStatus::Infeasible;
@@ -81,16 +110,36 @@ QpStatus QpSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen
 
 // The unconstrained minimum x = −G⁻¹ a, J = L⁻ᵀ, an empty working set.
 bool QpSolver::start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a) {
-  llt_.compute(G);
-  if (llt_.info() != Eigen::Success) return false;
-  J_.setIdentity();
-  llt_.matrixU().solveInPlace(J_);  // Lᵀ J = I
   x_ = -a;
-  llt_.solveInPlace(x_);
+  if (is_diagonal(G)) {
+    if (!start_diagonal(G)) return false;
+  } else {
+    llt_.compute(G);
+    if (llt_.info() != Eigen::Success) return false;
+    J_.setIdentity();
+    llt_.matrixU().solveInPlace(J_);  // Lᵀ J = I
+    llt_.solveInPlace(x_);
+  }
   R_.setZero();
   u_.setZero();
   is_active_.setConstant(false);
   q_ = 0;
+  return true;
+}
+
+// G = diag(g) (the whole-body QP's cost): L = diag(√g), J = L⁻ᵀ = diag(1/√g) and
+// x = −a/g without the dense factorisation and triangular solves (most of a solve's
+// start). Evaluated as those solves do on a diagonal L, to the bit: the matrix solve
+// multiplies by the reciprocal 1/√g, the vector solves divide by √g twice. Fails as
+// the Cholesky factorisation does, on a diagonal entry ≤ 0.
+bool QpSolver::start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G) {
+  J_.setZero();
+  for (int i = 0; i < n_; ++i) {
+    if (G(i, i) <= 0.0) return false;
+    const double l = std::sqrt(G(i, i));
+    J_(i, i) = 1.0 / l;
+    x_[i] = x_[i] / l / l;
+  }
   return true;
 }
 
@@ -99,7 +148,12 @@ void QpSolver::step_directions(const Eigen::Ref<const Eigen::VectorXd>& n) {
   d_.noalias() = J_.transpose() * n;
   z_.noalias() = J_.rightCols(n_ - q_) * d_.tail(n_ - q_);
   r_.head(q_) = d_.head(q_);
-  R_.topLeftCorner(q_, q_).triangularView<Eigen::Upper>().solveInPlace(r_.head(q_));
+  // R r = d₁ by back substitution, a column at a time (Eigen's triangular solve splits
+  // even these few rows into panels and a matrix-vector product).
+  for (int k = q_ - 1; k >= 0; --k) {
+    r_[k] /= R_(k, k);
+    r_.head(k) -= r_[k] * R_.col(k).head(k);
+  }
 }
 
 // Each equality by a full step of either sign onto it: x += t z with t = (b − nᵀx)/zᵀn.
@@ -120,15 +174,18 @@ bool QpSolver::add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq) {
 }
 
 // The inequality with the most negative slack nᵀx − b among those not in the working
-// set, or −1 when none is violated beyond its tolerance.
-int QpSolver::most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack) const {
+// set, or −1 when none is violated beyond its tolerance. The slacks by one product
+// C_in x (one matrix-vector product rather than a dot product per row).
+int QpSolver::most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack) {
   int p = -1;
   slack = 0;
   const double x_norm = x_.norm();
+  slack_in_.noalias() = CinT_.transpose() * x_;
+  slack_in_ -= b_in;
   for (int i = 0; i < m_in_; ++i) {
     if (is_active_[i]) continue;
-    const double s = CinT_.col(i).dot(x_) - b_in[i];
-    const double scale = std::max({1.0, std::abs(b_in[i]), CinT_.col(i).norm() * x_norm});
+    const double s = slack_in_[i];
+    const double scale = std::max({1.0, std::abs(b_in[i]), norm_in_[i] * x_norm});
     if (s < -kFeasible * scale && (p < 0 || s < slack)) {
       p = i;
       slack = s;
@@ -186,14 +243,19 @@ QpStatus QpSolver::add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_i
   return QpStatus::Optimal;
 }
 
-// Rotates d₂ into its first entry (J's columns rotated alike), so that Jᵀ n = [R(:, q); 0].
+// Turns d₂ into β e₁ (J₂ transformed alike) so that Jᵀ n = [R(:, q); 0]: one Householder
+// reflection H = I − τ v vᵀ (v = [1; essential part], H d₂ = β e₁, |β| = ‖d₂‖) and
+// J₂ ← J₂ H, so that (J₂ H)ᵀ n = H d₂. A matrix-vector product and a rank-one update
+// of J₂ instead of n − q − 1 Givens rotations, whose chain through d (each rotation's
+// sine and cosine wait for the last one's) was the solver's largest cost.
 bool QpSolver::add_to_working_set(int k) {
-  for (int j = n_ - 1; j > q_; --j) {
-    Eigen::JacobiRotation<double> g;
-    g.makeGivens(d_[j - 1], d_[j], &d_[j - 1]);
-    d_[j] = 0.0;
-    J_.applyOnTheRight(j - 1, j, g);
-  }
+  const int m = n_ - q_;
+  auto d2 = d_.tail(m);
+  double tau = 0.0, beta = 0.0;
+  d2.makeHouseholderInPlace(tau, beta);
+  J_.rightCols(m).applyHouseholderOnTheRight(d2.tail(m - 1), tau, house_.data());
+  d2[0] = beta;
+  d2.tail(m - 1).setZero();
   if (!(d_[q_] * d_[q_] > kDependent * d_.squaredNorm())) return false;
   R_.col(q_).head(q_ + 1) = d_.head(q_ + 1);
   working_[q_] = k;

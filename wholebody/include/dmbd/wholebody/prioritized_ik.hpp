@@ -9,7 +9,7 @@
 //     Δq ← Δq + J_pre⁺ (e_i − J_i Δq)
 //     q̇  ← q̇  + J_pre⁺ (ẋ_d,i − J_i q̇)
 //     q̈  ← q̈  + J_pre⁺ (ẍ_cmd,i − J̇_i v − J_i q̈)
-//     N_i = N_{i−1} (I − J_pre⁺ J_pre)
+//     N_i = N_{i−1} (I − J_pre⁺ J_pre)  (formed as N_{i−1} − J_pre⁺ J_pre: prioritized_ik.cpp)
 //
 // J⁺ is the Moore–Penrose pseudo-inverse with singular values below `sv_threshold`
 // times the largest left out (the authors' SVD threshold, 0.003). Every N_i is the
@@ -27,7 +27,6 @@
 #include <memory>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "dmbd/wholebody/projection.hpp"
@@ -61,12 +60,12 @@ class PrioritizedIk {
   void add_task(const ModelData& data, const Task& task, int i);
 
   int nv_;
-  Eigen::LLT<Eigen::MatrixXd> weights_;  // J⁺ is the A-weighted inverse with A = W (I by default)
+  Eigen::VectorXd sqrt_w_;  // J⁺ is the A-weighted inverse with A = W = diag(sqrt_w_)² (I by default)
   std::unique_ptr<DynamicallyConsistentInverse> contact_pinv_;
   std::vector<std::unique_ptr<DynamicallyConsistentInverse>> pinv_;       // per task
   std::vector<Eigen::MatrixXd> J_pre_;                                      // per task
   std::vector<Eigen::VectorXd> residual_;                                   // per task
-  Eigen::MatrixXd N_, N_next_;
+  Eigen::MatrixXd N_;
   Eigen::VectorXd dq_, qd_, qdd_;
 };
 

@@ -24,6 +24,10 @@ class DynamicallyConsistentInverse {
   // The same with A already factorised (one factor shared by several tasks per tick);
   // `A_factor` must outlive the use of solve_A().
   void compute(const Eigen::LLT<Eigen::MatrixXd>& A_factor, const Eigen::Ref<const Eigen::MatrixXd>& J);
+  // The same for a diagonal A = diag(l)², given its Cholesky factor's diagonal l > 0 (the
+  // prioritised IK's weights): A⁻¹Jᵀ by scaling rows, no triangular solves, the same
+  // arithmetic as the factored path to the bit. `A_sqrt` must outlive the use of solve_A().
+  void compute_diagonal(const Eigen::VectorXd& A_sqrt, const Eigen::Ref<const Eigen::MatrixXd>& J);
 
   const Eigen::MatrixXd& A_inv_Jt() const { return AinvJt_; }   // A⁻¹ Jᵀ (nv x m)
   const Eigen::MatrixXd& Lambda() const { return Lambda_; }     // m x m
@@ -35,6 +39,7 @@ class DynamicallyConsistentInverse {
   void solve_A(const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd> x) const;
 
  private:
+  void finish(const Eigen::Ref<const Eigen::MatrixXd>& J);  // Λ, J̄ and N from AinvJt_
   void compute_lambda();  // Λ from JAJt_ (which it overwrites)
   bool lambda_by_cholesky();
   void lambda_by_eigen();
@@ -43,6 +48,7 @@ class DynamicallyConsistentInverse {
   bool null_space_;
   Eigen::LLT<Eigen::MatrixXd> llt_, task_llt_;
   const Eigen::LLT<Eigen::MatrixXd>* factor_ = &llt_;  // A's factor of the last compute()
+  const Eigen::VectorXd* diagonal_factor_ = nullptr;    // or its diagonal (compute_diagonal)
   Eigen::MatrixXd AinvJt_, JAJt_, Lambda_, VD_, Jbar_, N_;
   Eigen::VectorXd inv_eigen_;
   int rank_ = 0;

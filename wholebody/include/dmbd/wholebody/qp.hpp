@@ -12,8 +12,9 @@
 //
 // The method starts from the unconstrained minimum, adds the equalities, then adds the
 // most violated inequality at a time, dropping active ones whose multipliers would turn
-// negative; the factorisation J = L⁻ᵀ Q and the triangular R are kept up to date by
-// Givens rotations. Storage is sized by the constructor; solve() allocates nothing.
+// negative; the factorisation J = L⁻ᵀ Q and the triangular R are kept up to date (a
+// Householder reflection when a constraint enters, Givens rotations when one leaves).
+// Storage is sized by the constructor; solve() allocates nothing.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
@@ -47,9 +48,10 @@ class QpSolver {
 
  private:
   bool start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
+  bool start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G);  // G diagonal
   bool add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq);
   QpStatus add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_in);
-  int most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack) const;
+  int most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack);
   // Working-set constraint k: k < m_eq the equality k, else the inequality k − m_eq.
   Eigen::Ref<const Eigen::VectorXd> normal(int k) const;
   void step_directions(const Eigen::Ref<const Eigen::VectorXd>& n);  // d, z, r for normal n
@@ -63,6 +65,9 @@ class QpSolver {
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::MatrixXd J_, R_;
   Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
+  Eigen::VectorXd norm_in_;           // ‖C_in row i‖ of this solve
+  Eigen::VectorXd slack_in_;          // C_in x − b_in (most_violated)
+  Eigen::VectorXd house_;             // add_to_working_set's workspace (n)
   Eigen::VectorXi working_;           // constraint index (as in normal()) per position
   Eigen::Matrix<bool, Eigen::Dynamic, 1> is_active_;  // per inequality
   double f_ = 0;
