@@ -18,6 +18,9 @@
 //   balance         unsupported balancing by stepping (paper Fig. 7): fell, time balanced,
 //                   steps, landing error, lateral CoM velocity reversals, knee winding
 //                   peaks, QP failures, the controller's tick time, pushes survived
+//   push_map        a matrix of pushed balancing runs against the pendulum's capture
+//                   verdict: the certified set's survival, the largest force survived
+//                   per direction, the analytic boundary F_max(phase) (issue 27)
 #include <map>
 #include <memory>
 #include <string>
