@@ -109,8 +109,8 @@ PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
   for (int j = 0; j < nj; ++j) {
     const Joint& jt = r.joints[static_cast<std::size_t>(kernel_.joint_description_index()[static_cast<std::size_t>(j)])];
     JointStop s{j, o.joint_limits && jt.has_limits && jt.type != JointType::Continuous, jt.lower, jt.upper,
-                o.joint_damping ? jt.damping : 0.0};
-    if (s.limited || s.damping > 0) stops_.push_back(s);
+                o.joint_damping ? jt.damping : 0.0, jt.armature};
+    if (s.limited || s.damping > 0 || s.armature > 0) stops_.push_back(s);
   }
   if (o.contact) {
     check_contact_params(o.contact_params);
@@ -174,7 +174,7 @@ void PlantDynamics::add_joint_terms(double h) {
       d += st.d;
     }
     r_[iv] += tau;
-    A_(iv, iv) += h * d + h * h * k;
+    A_(iv, iv) += s.armature + h * d + h * h * k;  // the armature is inertia: in A at every h (and in the kinetic energy)
     kv_[iv] += k * qd;
   }
 }

@@ -74,6 +74,7 @@ struct JointStop {
   int joint = -1;                // joint coordinate
   bool limited = false;
   double lower = 0, upper = 0, damping = 0;
+  double armature = 0;           // kg m² (kg) on the joint's diagonal of the mass matrix
 };
 
 class PlantDynamics {

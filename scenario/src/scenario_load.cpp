@@ -25,7 +25,7 @@ namespace detail {
 
 void Reader::robot(const YAML::Node& n, RobotSetup& r) const {
   keys(n, "robot", {"name", "urdf", "base", "base_pose", "actuators", "moving", "freeze", "initial", "lock", "payloads", "loads",
-                    "contact", "gravity", "ground_normal", "support"});
+                    "armature", "contact", "gravity", "ground_normal", "support"});
   if (n["name"] && n["urdf"]) fail(n["urdf"], "robot: give either 'name' (a robot folder) or 'urdf' (a file), not both");
   optional(n, "name", [&](const YAML::Node& x) { robot_name(x, r); });
   optional(n, "urdf", [&](const YAML::Node& u) {
@@ -53,6 +53,11 @@ void Reader::robot(const YAML::Node& n, RobotSetup& r) const {
   });
   optional(n, "freeze", [&](const YAML::Node& f) { r.freeze = named_numbers(f, "robot.freeze", &r.where, "freeze"); });
   optional(n, "initial", [&](const YAML::Node& i) { r.initial = named_numbers(i, "robot.initial", &r.where, "initial"); });
+  optional(n, "armature", [&](const YAML::Node& a) {
+    r.armature = named_numbers(a, "robot.armature", &r.where, "armature");
+    for (const auto& [joint, value] : r.armature)
+      if (!(value >= 0 && value <= 1e6)) fail(a[joint], "robot.armature: expected a rotor inertia of 0 to 1e6 kg m² for '" + joint + "'");
+  });
   optional(n, "lock", [&](const YAML::Node& l) { r.lock = named_numbers(l, "robot.lock", &r.where, "lock"); });
   optional(n, "payloads", [&](const YAML::Node&) { payloads(n, r); });
   optional(n, "loads", [&](const YAML::Node&) { loads(n, r); });

@@ -940,3 +940,38 @@ TEST(SimShippedScenarios, SysidRecoversTableI) {
 }
 
 }  // namespace
+
+// robot.armature (a rotor reflected onto a joint without an actuator model): set on the
+// variant's robot; an actuated joint (its rotor is modelled), a joint the robot lacks, a
+// welded joint and a negative inertia are located errors.
+TEST(SimScenarioLoad, ArmatureGoesOnJointsWithoutAnActuator) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml");
+  const std::string robot = "  initial: {l_knee: 1.0}";
+  const std::string moving = "  moving: [l_knee]";
+  const std::string two = replace_line(base_scenario(), moving, "  moving: [l_knee, l_ankle]");
+  write_text(path, replace_line(two, robot, robot + "\n  armature: {l_ankle: 0.55}"));
+  const Scenario s = load_scenario(path);
+  const dmbd::scenario::VariantPlant vp = dmbd::scenario::variant_plant(s, s.variants[0]);
+  const auto& joints = vp.robot.joints;
+  const auto ankle = std::find_if(joints.begin(), joints.end(), [](const auto& j) { return j.name == "l_ankle"; });
+  ASSERT_NE(ankle, joints.end());
+  EXPECT_EQ(ankle->armature, 0.55);
+  auto build_error = [&](const std::string& yaml, const std::string& expected) {
+    SCOPED_TRACE(expected);
+    write_text(path, yaml);
+    const Scenario bad = load_scenario(path);
+    try {
+      (void)dmbd::scenario::variant_plant(bad, bad.variants[0]);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(path + ":" + std::to_string(line_of(yaml, "armature:")) + ":", 0), 0u) << msg;
+      EXPECT_NE(msg.find(expected), std::string::npos) << msg;
+    }
+  };
+  build_error(replace_line(two, robot, robot + "\n  armature: {l_knee: 0.5}"), "'l_knee' is driven by its actuator, whose rotor is already modelled");
+  build_error(replace_line(two, robot, robot + "\n  armature: {l_toe: 0.5}"), "robot.armature: 'l_toe' is not a moving joint");
+  check_load_error(path, {"negative", replace_line(two, robot, robot + "\n  armature: {l_ankle: -1}"), "armature:",
+                          "robot.armature: expected a rotor inertia of 0 to 1e6 kg m² for 'l_ankle'"});
+}

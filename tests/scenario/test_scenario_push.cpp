@@ -95,14 +95,15 @@ TEST(Push, KeysStillMissingAfterEveryAxisAreNamedAtThePush) {
   }
 }
 
-// The shipped push map (examples/scenarios/push_map.yaml): 8 directions x (the
-// reference and 6 forces) x 4 phases on the sixth touch-down, one force per run, the
+// The shipped push map (examples/scenarios/push_map.yaml): 2 joint models x 8 directions
+// x (the reference and 6 forces) x 4 phases on the sixth touch-down, the ideal-joint
+// group with its ankles' armature, one force per run, the
 // reference's force zero with its trigger kept; two of its runs, the reference and the
 // 60 N forward push 0.1 s after the touch-down, reproduce the full map's figures
 // (docs/experiments.md): the boundary 47.49 N there (to 0.01 N) and the push survived.
 TEST(Push, TheShippedMapIsDirectionsByForcesByPhasesOnTheSixthStep) {
   sc::Scenario s = sc::load_scenario(std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/push_map.yaml");
-  ASSERT_EQ(s.variants.size(), 8u * 7u * 4u);
+  ASSERT_EQ(s.variants.size(), 2u * 8u * 7u * 4u);
   EXPECT_EQ(s.experiment.type, "push_map");
   int references = 0;
   for (const auto& v : s.variants) {
@@ -115,7 +116,11 @@ TEST(Push, TheShippedMapIsDirectionsByForcesByPhasesOnTheSixthStep) {
     references += f.direction_W.norm() == 0;
     EXPECT_GE(v.duration_s, 7.2 + 3.0);  // the latest push ends near 7.1 s; survival asks 3 s more
   }
-  EXPECT_EQ(references, 8 * 4);
+  EXPECT_EQ(references, 2 * 8 * 4);
+  for (const auto& v : s.variants)
+    if (v.name.rfind("ideal/", 0) == 0) {
+      EXPECT_EQ(v.robot.armature, (std::vector<std::pair<std::string, double>>{{"l_ankle", 0.55}, {"r_ankle", 0.55}})) << v.name;
+    }
   std::vector<sc::VariantSetup> kept;
   for (const auto& v : s.variants)
     if (v.name == "actuated/d0/F0/p0.1" || v.name == "actuated/d0/F60/p0.1") kept.push_back(v);

@@ -72,6 +72,11 @@ struct Joint {
   double lower = 0, upper = 0;                              // rad or m
   double effort = 0, velocity = 0;                          // N m or N; rad/s or m/s (0: none given)
   double damping = 0, friction = 0;                         // N m s/rad (N s/m); N m (N)
+  // A geared rotor's inertia reflected onto the joint, J_rotor N² (MuJoCo's armature),
+  // kg m² (kg): it adds to the joint's diagonal of the mass matrix. 0 from a URDF (it
+  // has no such field); a scenario's robot.armature sets it for joints without an
+  // actuator model (an actuator carries its own rotor).
+  double armature = 0;
 };
 
 // A physically invalid value of the file that the loader repaired (UrdfOptions::strict

@@ -71,6 +71,9 @@ struct RobotSetup {
   std::vector<std::pair<std::string, double>> initial;  // joint angles at t = 0
   std::vector<std::pair<std::string, double>> lock;     // locked outputs
   std::vector<Payload> payloads;               // `payloads`, in file order
+  // `armature`: {joint: kg m² (kg)}, a geared rotor's inertia reflected onto a joint that
+  // has no actuator model (model::Joint::armature), in file order.
+  std::vector<std::pair<std::string, double>> armature;
   std::vector<ReflectedLoad> loads;            // `loads`, in file order
   bool contact = false;                        // `contact`: every collision shape against the ground
   double gravity_m_s2 = 9.81;                  // `gravity`, m/s^2 along -z of the world (0: none)
@@ -79,7 +82,7 @@ struct RobotSetup {
   Eigen::Vector3d ground_normal = Eigen::Vector3d::UnitZ();
   std::optional<sim::SupportSpec> support;          // a floating base held horizontally until released
   // Where each named entry was written ("file:line:col"), keyed "moving:NAME",
-  // "actuators:NAME", "actuators.load", "actuators.scale:SYMBOL", "freeze:NAME", "initial:NAME", "lock:NAME", "loads:NAME",
+  // "actuators:NAME", "actuators.load", "actuators.scale:SYMBOL", "armature:NAME", "freeze:NAME", "initial:NAME", "lock:NAME", "loads:NAME",
   // "payloads:LINK", and "support": mistakes found only when the robot is built are
   // reported there.
   std::map<std::string, std::string> where;
