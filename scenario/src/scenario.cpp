@@ -123,13 +123,14 @@ VariantPlant variant_plant(const Scenario& s, const VariantSetup& v) {
     if (!std::any_of(po.actuators.begin(), po.actuators.end(), [&](const auto& a) { return a.joint == name; }))
       throw InputError(where("actuators:" + name) + ": robot.actuators: '" + name + "' is not a moving joint with an actuator");
 
-  for (const auto& [name, value] : r.armature) {
+  for (const auto& entry : r.armature) {  // not a structured binding: the lambda below captures the name (C++17)
+    const std::string& name = entry.first;
     const int j = robot.joint_index(name);
     if (j < 0 || robot.joints[static_cast<std::size_t>(j)].type == model::JointType::Fixed)
       throw InputError(where("armature:" + name) + ": robot.armature: '" + name + "' is not a moving joint");
     if (std::any_of(po.actuators.begin(), po.actuators.end(), [&](const auto& a) { return a.joint == name; }))
       throw InputError(where("armature:" + name) + ": robot.armature: '" + name + "' is driven by its actuator, whose rotor is already modelled");
-    robot.joints[static_cast<std::size_t>(j)].armature = value;
+    robot.joints[static_cast<std::size_t>(j)].armature = entry.second;
   }
 
   auto initial_of = [&](const std::string& joint) { return initial_angle(r, joint); };
