@@ -352,22 +352,24 @@ ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResu
 
 namespace {
 
+// Its keys: the shared ones (balance_runs.hpp) and its own.
+std::map<std::string, KeyKind> balance_experiment_keys() {
+  std::map<std::string, KeyKind> k = detail::balance_keys();
+  k.insert({{"leg", KeyKind::Text},
+            {"winding_joints", KeyKind::Joints},
+            {"replay_scales", KeyKind::Numbers},
+            {"replay_duration_s", KeyKind::Number},
+            {"replay_from_s", KeyKind::Number},
+            {"replay_cooled_below_C", KeyKind::Number},
+            {"replay_uncooled_above_C", KeyKind::Number}});
+  return k;
+}
+
 // The balance experiment records what the damping replay needs of the windings' actuators.
 class BalanceExperiment : public detail::FunctionExperiment {
  public:
   BalanceExperiment()
-      : FunctionExperiment({{"leg", KeyKind::Text},
-                            {"start_s", KeyKind::Number},
-                            {"fall_height_m", KeyKind::Number},
-                            {"fall_tilt_rad", KeyKind::Number},
-                            {"winding_joints", KeyKind::Joints},
-                            {"swing_speed_max_m_s", KeyKind::Number},
-                            {"swing_accel_max_m_s2", KeyKind::Number},
-                            {"replay_scales", KeyKind::Numbers},
-                            {"replay_duration_s", KeyKind::Number},
-                            {"replay_from_s", KeyKind::Number},
-                            {"replay_cooled_below_C", KeyKind::Number},
-                            {"replay_uncooled_above_C", KeyKind::Number}},
+      : FunctionExperiment(balance_experiment_keys(),
                            false,
                            [](const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) {
                              return balance(e, runs, variants);

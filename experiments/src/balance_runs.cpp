@@ -52,6 +52,14 @@ SwingPeaks swing_peaks(const BalanceRun& run, const std::string& file) {
   return out;
 }
 
+std::map<std::string, KeyKind> balance_keys() {
+  return {{"start_s", KeyKind::Number},
+          {"fall_height_m", KeyKind::Number},
+          {"fall_tilt_rad", KeyKind::Number},
+          {"swing_speed_max_m_s", KeyKind::Number},
+          {"swing_accel_max_m_s2", KeyKind::Number}};
+}
+
 BalanceParams read_balance_params(const ExperimentSetup& e, const std::vector<VariantFacts>& variants) {
   std::string prefix = "balance.";  // the balancing controller's signals: from the first variant that has one
   for (const auto& v : variants)

@@ -3,6 +3,7 @@
 // push_map.cpp) read of a balancing run's log, found once: where stepping starts, the
 // fall, the touch-downs and landings, and the pushes it took with their outcome and the
 // pendulum's verdict (push_capture.hpp).
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,6 +56,10 @@ struct SwingPeaks {
   double speed_m_s, accel_m_s2;
 };
 SwingPeaks swing_peaks(const BalanceRun& run, const std::string& file);
+
+// The keys read_balance_params reads besides the experiment's own: start_s, the fall
+// limits and the swing's reach.
+std::map<std::string, KeyKind> balance_keys();
 
 // The keys every balance experiment shares (start_s, fall limits, the swing's reach; its
 // controller's prefix from the variants); InputError naming the file for limits given

@@ -119,18 +119,34 @@ double ray_exit_N(const nlohmann::json& v, const Eigen::Vector2d& d, double shif
   return f;
 }
 
-// The boundary over the phase grid [0, one step period], per direction of the group's pushes.
+// Why the group has no boundary ("" when it has one): it needs an unpushed run, the
+// controller's options and mass, and one phase origin and duration shared by its pushes
+// (to a microsecond).
+std::string no_boundary_reason(const Group& g) {
+  if (g.pushes.empty()) return "no push";
+  if (!g.reference) return "no unpushed run (push force_N 0) in the group";
+  if (!g.reference_facts->bus_controller<control::BalanceSetup>() || !g.reference->r.truth.count("total_mass_kg"))
+    return "its unpushed run has no balancing controller";
+  for (const auto& p : g.pushes)
+    if (std::abs(p.origin_s - g.pushes.front().origin_s) > 1e-6 || std::abs(p.duration_s - g.pushes.front().duration_s) > 1e-6)
+      return fmt::format("its pushes do not share one phase origin and duration ('{}': {} s and {} s, '{}': {} s and {} s)", g.pushes.front().run,
+                         g.pushes.front().origin_s, g.pushes.front().duration_s, p.run, p.origin_s, p.duration_s);
+  return "";
+}
+
+// The boundary over the phase grid [0, one step period], per direction of the group's
+// pushes (no_boundary_reason empty).
 nlohmann::json boundary(const Group& g, const BalanceParams& p, const std::vector<double>& dirs, const std::string& file) {
-  if (!g.reference || g.pushes.empty()) return nullptr;
   const auto* b = g.reference_facts->bus_controller<control::BalanceSetup>();
   const auto mass = g.reference->r.truth.find("total_mass_kg");
-  if (!b || mass == g.reference->r.truth.end()) return nullptr;
   const double origin = g.pushes.front().origin_s, tau = g.pushes.front().duration_s;
   const double shift = wholebody::push_capture_point_shift(1.0, tau, mass->second, detail::pendulum_omega(*b));
   nlohmann::json out = {{"reference", g.reference->r.name}, {"trigger_time_s", origin}, {"duration_s", tau}};
   std::vector<double> phases;
   std::map<double, std::vector<double>> by_dir;
-  for (double ph = 0; ph <= detail::step_period_s(*b) + 1e-9; ph += kBoundaryStepS) {
+  const auto n = static_cast<int>(std::floor(detail::step_period_s(*b) / kBoundaryStepS + 1e-9));
+  for (int k = 0; k <= n; ++k) {
+    const double ph = k * kBoundaryStepS;
     const nlohmann::json v = detail::push_capture(g.reference->r, *b, origin + ph + tau, file, p.reach);
     phases.push_back(ph);
     for (double deg : dirs) {
@@ -228,9 +244,17 @@ void add_swing_peaks(const BalanceRun& run, const std::string& file, Group& g) {
   ++g.stood;
 }
 
-void add_push(const BalanceRun& run, const VariantFacts& v, const BalanceParams& p, const std::string& file, Group& g) {
+// One run into its group: its push, or (no force at all) the group's unpushed reference.
+// A run whose force pushed nothing (a trigger that never fired) or came before any
+// touch-down (no phase) is left out with a warning.
+void add_push(const BalanceRun& run, const VariantFacts& v, const BalanceParams& p, const std::string& file, Group& g,
+              std::vector<std::string>& warnings) {
   const nlohmann::json pushes = detail::push_metrics(run, v, p.reach, file);
   if (pushes.empty()) {
+    if (std::any_of(v.forces.begin(), v.forces.end(), [](const ForceSpec& f) { return f.direction_W.norm() > 0; })) {
+      warnings.push_back(fmt::format("variant '{}': its push was never applied (its trigger did not fire): not in the map", run.r.name));
+      return;
+    }
     if (!run.fell()) add_swing_peaks(run, file, g);
     if (!g.reference) g.reference = &run, g.reference_facts = &v;
     return;
@@ -240,10 +264,14 @@ void add_push(const BalanceRun& run, const VariantFacts& v, const BalanceParams&
   const auto dir = j.at("direction").get<std::vector<double>>();
   MapPush m{run.r.name, direction_deg({dir[0], dir[1], dir[2]}), j.at("force_N").get<double>(), 0, j.at("duration_s").get<double>(), 0,
             j.at("survived").get<bool>(), j.at("lipm")};
-  if (m.survived) add_swing_peaks(run, file, g);
   const double start = j.at("start_s").get<double>();
   m.origin_s = phase_origin(run, v, start);
+  if (std::isnan(m.origin_s)) {
+    warnings.push_back(fmt::format("variant '{}': its push at {} s comes before any touch-down (no phase): not in the map", run.r.name, start));
+    return;
+  }
   m.phase_s = std::round((start - m.origin_s) * 1e6) / 1e6;
+  if (m.survived) add_swing_peaks(run, file, g);
   g.pushes.push_back(std::move(m));
 }
 
@@ -260,10 +288,24 @@ nlohmann::json push_json(const MapPush& p) {
           {"reachable", l.is_null() ? nlohmann::json(nullptr) : l.value("reachable", nlohmann::json(nullptr))}};
 }
 
-ExperimentResult push_map(const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) {
-  const BalanceParams p = detail::read_balance_params(e, variants);
+// The map's own keys, each within its range (a located InputError otherwise).
+MapParams read_map_params(const ExperimentSetup& e) {
   const MapParams mp{detail::text_or(e, "group_axis", ""), detail::number_or(e, "map_margin_m", 0.03), detail::number_or(e, "map_min_pushes", 50),
                      detail::number_or(e, "map_survived_at_least", 0.95)};
+  auto check = [&](bool ok, const char* key, const char* expected, double got) {
+    if (ok) return;
+    const auto at = e.where.find(key);
+    throw InputError(fmt::format("{}: experiment push_map: {}: expected {}, got {}", at == e.where.end() ? e.file : at->second, key, expected, got));
+  };
+  check(mp.margin_m >= 0, "map_margin_m", "a margin of 0 m or more", mp.margin_m);
+  check(mp.min_pushes >= 1 && mp.min_pushes == std::floor(mp.min_pushes), "map_min_pushes", "a whole number of pushes, at least 1", mp.min_pushes);
+  check(mp.survived_at_least > 0 && mp.survived_at_least <= 1, "map_survived_at_least", "a fraction in (0, 1]", mp.survived_at_least);
+  return mp;
+}
+
+ExperimentResult push_map(const ExperimentSetup& e, const std::vector<VariantResult>& runs, const std::vector<VariantFacts>& variants) {
+  const BalanceParams p = detail::read_balance_params(e, variants);
+  const MapParams mp = read_map_params(e);
   ExperimentResult res;
   std::vector<BalanceRun> analysed;
   analysed.reserve(runs.size());  // Groups point into it
@@ -274,13 +316,13 @@ ExperimentResult push_map(const ExperimentSetup& e, const std::vector<VariantRes
       continue;
     }
     analysed.push_back(detail::analyse_run(runs[k], p, e.file));
-    add_push(analysed.back(), variants[k], p, e.file, groups[group_of(runs[k], mp, e)]);
+    add_push(analysed.back(), variants[k], p, e.file, groups[group_of(runs[k], mp, e)], res.warnings);
   }
   for (const auto& [name, g] : groups) {
     const auto dirs = directions(g);
-    const nlohmann::json bnd = boundary(g, p, dirs, e.file);
-    if (bnd.is_null() && !g.pushes.empty())
-      res.warnings.push_back(fmt::format("push map '{}': no unpushed run (push force_N 0) in the group: no boundary drawn", name));
+    const std::string why = no_boundary_reason(g);
+    const nlohmann::json bnd = why.empty() ? boundary(g, p, dirs, e.file) : nlohmann::json(nullptr);
+    if (!why.empty() && !g.pushes.empty()) res.warnings.push_back(fmt::format("push map '{}': {}: no boundary drawn", name, why));
     nlohmann::json& m = res.metrics["push_map"][name];
     m["pushes"] = nlohmann::json::array();
     for (const auto& push : g.pushes) m["pushes"].push_back(push_json(push));
@@ -300,16 +342,9 @@ ExperimentResult push_map(const ExperimentSetup& e, const std::vector<VariantRes
 }  // namespace
 
 std::shared_ptr<const Experiment> push_map_experiment() {
-  return std::make_shared<detail::FunctionExperiment>(std::map<std::string, KeyKind>{{"start_s", KeyKind::Number},
-                                                                                    {"fall_height_m", KeyKind::Number},
-                                                                                    {"fall_tilt_rad", KeyKind::Number},
-                                                                                    {"swing_speed_max_m_s", KeyKind::Number},
-                                                                                    {"swing_accel_max_m_s2", KeyKind::Number},
-                                                                                    {"group_axis", KeyKind::Text},
-                                                                                    {"map_margin_m", KeyKind::Number},
-                                                                                    {"map_min_pushes", KeyKind::Number},
-                                                                                    {"map_survived_at_least", KeyKind::Number}},
-                                                      false, &push_map);
+  std::map<std::string, KeyKind> keys = detail::balance_keys();
+  keys.insert({{"group_axis", KeyKind::Text}, {"map_margin_m", KeyKind::Number}, {"map_min_pushes", KeyKind::Number}, {"map_survived_at_least", KeyKind::Number}});
+  return std::make_shared<detail::FunctionExperiment>(keys, false, &push_map);
 }
 
 }  // namespace dmbd::experiments

@@ -149,3 +149,54 @@ TEST(PushMap, AGroupAxisThatIsNotAMatrixAxisIsNamed) {
 }
 
 }  // namespace
+
+namespace {
+
+std::string error_of(const dmbd::scenario::Scenario& s) {
+  try {
+    dmbd::scenario::evaluate_experiment(s, logs(s));
+  } catch (const dmbd::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PushMap, ItsOwnKeysOutsideTheirRangesAreNamed) {
+  auto s = map_scenario({NAN, 0});
+  s.experiment.number["map_survived_at_least"] = 1.5;
+  EXPECT_NE(error_of(s).find("map_survived_at_least: expected a fraction in (0, 1], got 1.5"), std::string::npos) << error_of(s);
+  s = map_scenario({NAN, 0});
+  s.experiment.number["map_min_pushes"] = 2.5;
+  EXPECT_NE(error_of(s).find("map_min_pushes: expected a whole number of pushes, at least 1"), std::string::npos) << error_of(s);
+  s = map_scenario({NAN, 0});
+  s.experiment.number["map_margin_m"] = -0.01;
+  EXPECT_NE(error_of(s).find("map_margin_m: expected a margin of 0 m or more"), std::string::npos) << error_of(s);
+}
+
+TEST(PushMap, APushThatNeverCameIsNotTakenForTheReference) {
+  // The first run's force has a direction but its trigger never fired (no logged start):
+  // it is left out with a warning, and the unpushed run after it is the reference.
+  auto s = map_scenario({0, NAN, 90});
+  auto runs = logs(s);
+  dmbd::sim::VariantResult unfired = log(false);
+  unfired.name = runs[0].name;
+  unfired.axes = runs[0].axes;
+  runs[0] = unfired;  // no forces.0.start_s column: never started
+  const auto res = dmbd::scenario::evaluate_experiment(s, runs);
+  const auto& m = res.metrics.at("push_map").at("ideal");
+  EXPECT_EQ(m.at("boundary").at("reference").get<std::string>(), "ref");
+  EXPECT_EQ(m.at("pushes").size(), 1u);
+  ASSERT_FALSE(res.warnings.empty());
+  EXPECT_NE(res.warnings[0].find("variant 'd0': its push was never applied"), std::string::npos) << res.warnings[0];
+}
+
+TEST(PushMap, PushesFromDifferentPhaseOriginsGetNoSharedBoundary) {
+  auto s = map_scenario({NAN, 0, 90});
+  s.variants[2].forces[0].source.steps = {{0.0, 100.0}, {0.002, 0.0}};  // 2 ms instead of 4
+  const auto res = dmbd::scenario::evaluate_experiment(s, logs(s));
+  EXPECT_TRUE(res.metrics.at("push_map").at("ideal").at("boundary").is_null());
+  ASSERT_FALSE(res.warnings.empty());
+  EXPECT_NE(res.warnings[0].find("do not share one phase origin and duration"), std::string::npos) << res.warnings[0];
+}
+
+}  // namespace
