@@ -28,6 +28,16 @@ Eigen::Vector3d collision_centre(const model::RobotDescription& r, const std::st
   return c / static_cast<double>(shapes.size());
 }
 
+// The planner's parameters on this plant: the scenario's gravity (the pendulum's ω) and
+// the phase machine's step period (touch-down to touch-down).
+wholebody::TvrParams planner_params(const BalanceSetup& s, double gravity) {
+  wholebody::TvrParams p = s.tvr;
+  p.gravity_m_s2 = gravity;
+  const wholebody::PhaseMachineParams& ph = s.phases;
+  p.step_period_s = ph.double_support_s + ph.lift_s + ph.swing_s + ph.landing_s;
+  return p;
+}
+
 }  // namespace
 
 BalanceController::Impl::Impl(const model::RobotDescription& robot, double gravity, const BalanceSetup& s)
@@ -37,7 +47,7 @@ BalanceController::Impl::Impl(const model::RobotDescription& robot, double gravi
                 {s.foot_link[1], collision_centre(robot, s.foot_link[1], s.where)}),
       rng(s.seed),
       phases(s.phases),
-      tvr(s.tvr),
+      tvr(planner_params(s, gravity)),
       swing(s.swing) {}
 
 void BalanceController::Impl::find_frames_and_joints(const model::RobotDescription& robot) {

@@ -98,7 +98,7 @@ struct BalanceController::Impl {
   void on_events(const wholebody::PhaseInfo& ph);
   void plan_step(const wholebody::PhaseInfo& ph, bool replan);
   void plan_weight_shift(const wholebody::PhaseInfo& ph);
-  void pendulum_state(Eigen::Vector2d& position_m, Eigen::Vector2d& velocity_m_s) const;  // TVR's point
+  void pendulum_state(Side stance, Eigen::Vector2d& position_m, Eigen::Vector2d& velocity_m_s) const;  // TVR's point
 
   // Tasks, IK and QP (balance_wbc.cpp): q_des, qd_des, tau_ff; false when the QP failed.
   bool whole_body(const wholebody::PhaseInfo& ph);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "balance_impl.hpp"
+#include "dmbd/wholebody/momentum.hpp"
 
 namespace dmbd::control {
 
@@ -29,7 +30,7 @@ void BalanceController::Impl::on_events(const wholebody::PhaseInfo& ph) {
     }
     if (!com_desired_set) {
       Eigen::Vector2d velocity;
-      pendulum_state(com_desired, velocity);
+      pendulum_state(wholebody::other(sw), com_desired, velocity);
       com_desired_set = true;
     }
   }
@@ -44,7 +45,14 @@ void BalanceController::Impl::on_events(const wholebody::PhaseInfo& ph) {
   }
 }
 
-void BalanceController::Impl::pendulum_state(Eigen::Vector2d& position_m, Eigen::Vector2d& velocity_m_s) const {
+// The planner's pendulum state (TvrPoint): its position and its velocity, world xy.
+void BalanceController::Impl::pendulum_state(Side stance, Eigen::Vector2d& position_m,
+                                            Eigen::Vector2d& velocity_m_s) const {
+  if (setup.tvr_point == TvrPoint::AngularMomentum) {
+    position_m = data.com.head<2>();
+    velocity_m_s = wholebody::contact_pendulum_velocity(data, foot_point(stance), tvr.params().com_height_m);
+    return;
+  }
   if (setup.tvr_point == TvrPoint::Com) {
     position_m = data.com.head<2>();
     velocity_m_s.noalias() = data.J_com.topRows<2>() * v;
@@ -78,7 +86,7 @@ void BalanceController::Impl::plan_weight_shift(const wholebody::PhaseInfo& ph) 
 void BalanceController::Impl::plan_step(const wholebody::PhaseInfo& ph, bool replan) {
   const Side sw = ph.swing_side;
   wholebody::TvrInput in;
-  pendulum_state(in.com_m, in.com_velocity_m_s);
+  pendulum_state(wholebody::other(sw), in.com_m, in.com_velocity_m_s);
   in.stance_foot_m = foot_point(wholebody::other(sw)).head<2>();
   in.com_desired_m = com_desired;
   in.swing = sw;

@@ -49,10 +49,11 @@ void read_joint_feedback(const yaml::Fields& f, const YAML::Node& x, BalanceSetu
 }
 
 void read_tvr_point(const yaml::Fields& f, const YAML::Node& x, BalanceSetup& b) {
-  const char* expected = "balance.tvr_point: expected com or {torso_offset_m: [x, y]}";
+  const char* expected = "balance.tvr_point: expected com, angular_momentum or {torso_offset_m: [x, y]}";
   if (x.IsScalar()) {
-    if (x.as<std::string>() != "com") f.fail(x, expected);
-    b.tvr_point = TvrPoint::Com;
+    const std::string point = x.as<std::string>();
+    if (point != "com" && point != "angular_momentum") f.fail(x, expected);
+    b.tvr_point = point == "com" ? TvrPoint::Com : TvrPoint::AngularMomentum;
     return;
   }
   if (!x.IsMap() || !x["torso_offset_m"]) f.fail(x, expected);
@@ -96,7 +97,8 @@ void read_phases(const yaml::Fields& f, const YAML::Node& x, wholebody::PhaseMac
 
 void read_planner(const yaml::Fields& f, const YAML::Node& n, BalanceSetup& b) {
   f.optional(n, "tvr", [&](const YAML::Node& x) {
-    f.keys(x, "balance.tvr", {"t_prime_s", "kappa", "com_height_m"});
+    f.keys(x, "balance.tvr", {"t_prime_s", "kappa", "com_height_m", "lateral_width_m"});
+    f.optional(x, "lateral_width_m", [&](const YAML::Node& y) { b.tvr.lateral_width_m = f.number_in(y, "balance.tvr.lateral_width_m", 0.0, 2.0, "m"); });
     f.optional(x, "t_prime_s", [&](const YAML::Node& y) { b.tvr.t_prime_s = vec2(f, y, "balance.tvr.t_prime_s"); });
     f.optional(x, "kappa", [&](const YAML::Node& y) { b.tvr.kappa = vec2(f, y, "balance.tvr.kappa"); });
     f.optional(x, "com_height_m", [&](const YAML::Node& y) { b.tvr.com_height_m = f.number_in(y, "balance.tvr.com_height_m", 0.1, 10.0, "m"); });

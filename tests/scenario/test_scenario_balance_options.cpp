@@ -114,6 +114,12 @@ TEST(BalanceOptionsMap, TheNewKeysAreReadIntoTheSetup) {
   EXPECT_EQ(d.phases.weight_shift_s, 0.0);
   EXPECT_EQ(d.swing.horizontal_fraction, defaults.swing.horizontal_fraction);
   EXPECT_EQ(d.qp.w_qdd_base, defaults.qp.w_qdd_base);
+  EXPECT_EQ(d.tvr.lateral_width_m, 0.0);
+
+  dmbd::sim::test::write_text(path, kHead + "balance: {tvr_point: angular_momentum, tvr: {lateral_width_m: 0.25}}\n");
+  const BalanceSetup a = *dmbd::test::bus_options<BalanceSetup>(load_scenario(path).variants[0]);
+  EXPECT_EQ(a.tvr_point, TvrPoint::AngularMomentum);
+  EXPECT_EQ(a.tvr.lateral_width_m, 0.25);
 }
 
 // A bad value is one located line: "b.yaml:LINE:COL: " at the offending node (the
@@ -129,8 +135,9 @@ TEST(BalanceOptionsMap, BadValuesAreLocated) {
   const BadValue cases[] = {
       {"  task_gains: {torso: [-1, 2]}", "[-1", "balance.task_gains.torso: expected gains [kp, kd] of 0 or more"},
       {"  task_gains: {swing_foot: [300, -0.5]}", "[300", "balance.task_gains.swing_foot: expected gains [kp, kd] of 0 or more"},
-      {"  tvr_point: gps", "gps", "balance.tvr_point: expected com or {torso_offset_m: [x, y]}"},
-      {"  tvr_point: {}", "{}", "balance.tvr_point: expected com or {torso_offset_m: [x, y]}"},
+      {"  tvr_point: gps", "gps", "balance.tvr_point: expected com, angular_momentum or {torso_offset_m: [x, y]}"},
+      {"  tvr_point: {}", "{}", "balance.tvr_point: expected com, angular_momentum or {torso_offset_m: [x, y]}"},
+      {"  tvr: {lateral_width_m: -0.2}", "-0.2", "balance.tvr.lateral_width_m: expected a number from 0 to 2 m, got -0.2 m"},
       {"  task_gains: {torso: [1, 2], hips: [1, 2]}", "hips",
        "balance.task_gains: unknown key 'hips' (expected one of: torso, swing_foot, joints, com)"},
       {"  swing: {horizontal_fraction: 0}", "0}", "balance.swing.horizontal_fraction: expected a number from 0.05 to 1, got 0"},

@@ -26,6 +26,8 @@ void validate(const TvrParams& p) {
   require(p.switching_speed_min_m_s >= 0 && p.switching_speed_min_m_s <= p.switching_speed_max_m_s,
           "switching_speed_min_m_s must lie in [0, switching_speed_max_m_s]");
   require(p.slow_time_scale > 0 && p.fast_time_scale > 0, "the time scales must be positive");
+  require(std::isfinite(p.lateral_width_m) && p.lateral_width_m >= 0, "lateral_width_m must be 0 or positive");
+  require(std::isfinite(p.step_period_s) && p.step_period_s > 0, "step_period_s must be positive");
 }
 
 }  // namespace
@@ -58,8 +60,15 @@ TvrPlan TvrPlanner::plan(const TvrInput& in) const {
   for (int i = 0; i < 2; ++i)
     out.foothold_unclamped_m[i] = reversal_foothold(out.switching_com_m[i], out.switching_com_velocity_m_s[i], omega_,
                                                     params_.t_prime_s[i], params_.kappa[i], in.com_desired_m[i]);
+  out.foothold_unclamped_m.y() += (in.swing == Side::Left ? 1.0 : -1.0) * lateral_width_offset_m();
   apply_step_limits(in, out);
   return out;
+}
+
+double TvrPlanner::lateral_width_offset_m() const {
+  if (params_.lateral_width_m == 0.0) return 0.0;
+  const double coth = 1.0 / std::tanh(omega_ * params_.t_prime_s.y());
+  return 0.5 * params_.lateral_width_m * (1.0 - coth * std::tanh(0.5 * omega_ * params_.step_period_s));
 }
 
 void TvrPlanner::switching_state(const TvrInput& in, double t_s, TvrPlan& out) const {

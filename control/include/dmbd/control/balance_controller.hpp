@@ -101,8 +101,13 @@ struct BalanceWeightShift {
 
 // The point the TVR planner treats as the pendulum's mass: the CoM (tvr.com_height_m
 // should then be the CoM's height), or the authors' torso origin + an offset (in the
-// torso's heading frame) with the torso's velocity (at the torso's height).
-enum class TvrPoint { Com, Torso };
+// torso's heading frame) with the torso's velocity (at the torso's height), or the CoM
+// with the angular momentum about the stance foot's contact point (`angular_momentum`:
+// the pendulum's velocity is (L_y, −L_x)/(m h), h = tvr.com_height_m; Gong and Grizzle's
+// ALIP state). Over a point foot L obeys L̇ = m g (x_CoM − p) exactly, whatever the legs
+// and torso do inside, so its prediction over a step holds where the CoM velocity's,
+// which the swing leg's motion moves, does not.
+enum class TvrPoint { Com, Torso, AngularMomentum };
 
 // The options of a `bus_controllers` entry of type balance (docs/scenario-format.md,
 // "bus_controllers"; over the robot folder's controllers.balance, key by key): the

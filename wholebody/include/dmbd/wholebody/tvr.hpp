@@ -45,6 +45,19 @@ struct TvrParams {
   double step_lateral_min_m = 0.20, step_lateral_max_m = 0.55;  // |p′y − stance y|, swing side
   double switching_speed_min_m_s = 0.0, switching_speed_max_m_s = 1.3;
   double slow_time_scale = 1.1, fast_time_scale = 0.9;
+  // Stepping in place with a lateral width w (0: none, the authors' planner). The TVR
+  // rule alone holds no width: with t′_y = T/2 (T the step's period) every width is a
+  // fixed point (a neutral mode that wanders), with t′_y > T/2 the width shrinks to the
+  // step limit's minimum, which then carries the robot sideways. The pendulum's
+  // period-2 orbit of width w (feet at ±w/2, the CoM crossing the middle at
+  // (w/2) ω tanh(ωT/2) at each switch) is a fixed point of the rule when the foothold
+  // gains an offset towards the swing side of
+  //   d = (w/2) [1 − coth(ω t′_y) tanh(ωT/2)];
+  // with t′_y = T the step-to-step map of (x_s − p, ẋ_s) is deadbeat (both eigenvalues
+  // 0: H-LIP's deadbeat gain, Xiong and Ames 2021) and κ_y pulls the orbit's middle to
+  // x_des.
+  double lateral_width_m = 0.0;
+  double step_period_s = 0.38;  // T, touch-down to touch-down (only with lateral_width_m)
 };
 
 // The foot that swings (and lands at the planned foothold) is a Side of the phase
@@ -97,6 +110,7 @@ class TvrPlanner {
   void switching_state(const TvrInput& in, double t_s, TvrPlan& out) const;
   double speed_rule_scale(const Eigen::Vector2d& switching_velocity_m_s) const;
   void apply_step_limits(const TvrInput& in, TvrPlan& out) const;
+  double lateral_width_offset_m() const;  // d above, towards the swing side
 
   TvrParams params_;
   double omega_;
