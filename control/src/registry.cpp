@@ -29,7 +29,7 @@ std::vector<std::string> bus_controller_types() { return types().names(); }
 
 std::vector<sim::Overlay> BusControllerType::overlays(const BusControllerOptions&) const { return {}; }
 
-std::vector<const char*> common_option_keys() { return {"type", "name", "rate_hz", "delay_s"}; }
+std::vector<const char*> common_option_keys() { return {"type", "name", "rate_hz", "delay_s", "assumed_load_set"}; }
 
 void read_common_options(const yaml::Fields& f, const YAML::Node& n, BusControllerOptions& o) {
   const std::string what = o.type;
@@ -44,6 +44,10 @@ void read_common_options(const yaml::Fields& f, const YAML::Node& n, BusControll
     if (delay > 1.0 / o.rate_hz)
       f.fail(d, fmt::format("{}.delay_s: {} s is longer than one period of {} Hz ({} s)", what, delay, o.rate_hz, 1.0 / o.rate_hz));
     o.delay_s = delay;
+  });
+  f.optional(n, "assumed_load_set", [&](const YAML::Node& x) {
+    o.assumed_load_set = f.text(x, what + ".assumed_load_set");
+    o.assumed_load_set_where = f.at(x);
   });
 }
 

@@ -90,6 +90,11 @@ void Reader::robot_actuators(const YAML::Node& a, RobotSetup& r) const {
   // Not `YAML::Node joints = a; joints = ...`: assigning to a yaml-cpp Node overwrites
   // the node it refers to (here the scenario's own actuators map).
   if (a.IsMap()) keys(a, "robot.actuators", {"file", "joints", "load", "scale"});
+  // A variant's `actuators` replaces the base's whole (docs/scenario-format.md): its
+  // file, load set and factors start from the robot's defaults, never compound.
+  r.actuator_file = r.folder ? r.folder->actuators : std::string();
+  r.actuator_load_set.clear();
+  r.actuator_scales.clear();
   const YAML::Node joints = a.IsMap() ? required(a, "joints", "robot.actuators") : a;
   if (a.IsMap()) {
     optional(a, "file", [&](const YAML::Node& f) { r.actuator_file = path(f, "robot.actuators.file"); });

@@ -11,6 +11,8 @@
 #include "dmbd/codegen/loop_program.hpp"
 #include "dmbd/control/registry.hpp"
 #include "dmbd/diagrams/diagram.hpp"
+#include "dmbd/model/actuator.hpp"
+#include "dmbd/model/error.hpp"
 
 namespace dmbd::scenario {
 
@@ -166,7 +168,19 @@ std::vector<BusControllerRun> bus_controllers(const VariantSetup& v, const Varia
   for (const auto& o : v.bus_controllers) {
     const control::BusControllerType* t = control::find_bus_controller(o->type);
     if (!t) throw InputError(o->where + ": bus controller type '" + o->type + "' is not registered");
-    out.push_back({o, t->make(*o, c)});
+    if (o->assumed_load_set.empty()) {
+      out.push_back({o, t->make(*o, c)});
+      continue;
+    }
+    control::BusControllerContext assumed = c;  // the plant's table with the named set's load terms
+    if (assumed.actuators.empty())
+      throw InputError(o->assumed_load_set_where + ": " + o->name + ".assumed_load_set: the plant has no actuators (robot.actuators) whose load to assume");
+    try {
+      model::select_load_set(assumed.actuators, o->assumed_load_set);
+    } catch (const model::ModelError& e) {
+      throw InputError(o->assumed_load_set_where + ": " + o->name + ".assumed_load_set: " + e.what());
+    }
+    out.push_back({o, t->make(*o, assumed)});
   }
   return out;
 }

@@ -96,6 +96,22 @@ TEST(ActuatorVariation, AMatrixSweepsTheScale) {
   EXPECT_DOUBLE_EQ(b_l(s, 2, "l_ankle"), 960);
 }
 
+// A matrix entry's `actuators` replaces the base's whole (docs/scenario-format.md, "What a
+// variant replaces"): 0.5 of the file's value, not 0.2 x 0.5; an entry scaling another
+// parameter drops the base's B_l factor.
+TEST(ActuatorVariation, AnEntrysActuatorsReplaceTheBasesWhole) {
+  TempDir dir;
+  write_text(dir.file("table.yaml"), table_with_sets());
+  const std::string axis = "matrix:\n  s:\n"
+                           "    - {name: s0.5, robot: {actuators: {file: table.yaml, joints: all, scale: {B_l: 0.5}}}}\n"
+                           "    - {name: base, robot: {actuators: {file: table.yaml, joints: all, scale: {J_m: 2}}}}\n";
+  write_text(dir.file("m.yaml"), scenario("{file: table.yaml, joints: all, scale: {B_l: 0.2}}", axis));
+  const sc::Scenario s = sc::load_scenario(dir.file("m.yaml"));
+  ASSERT_EQ(s.variants.size(), 2u);
+  EXPECT_DOUBLE_EQ(b_l(s, 0, "l_knee"), 1.0e4);
+  EXPECT_DOUBLE_EQ(b_l(s, 1, "l_knee"), 2.0e4);
+}
+
 TEST(ActuatorVariation, MistakesAreLocatedAtTheirLines) {
   TempDir dir;
   write_text(dir.file("table.yaml"), table_with_sets());

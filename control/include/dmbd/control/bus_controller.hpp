@@ -30,6 +30,11 @@ struct BusControllerOptions {
   double rate_hz = 1000;  // `rate_hz`: ticks per second
   double delay_s = 0.0;   // `delay_s`: computation delay, s, 0 to one period
   std::string where;      // "file:line:col" of the entry, for messages
+  // `assumed_load_set`: the actuator file's load set whose terms (B_l) the controller
+  // computes with, while the plant keeps its own (empty: the plant's values). A
+  // controller tuned on one load (a test stand) running on another (the robot).
+  std::string assumed_load_set;
+  std::string assumed_load_set_where;  // "file:line:col" of that option
 };
 
 // What a bus controller is built for: one variant's robot and plant.
