@@ -69,6 +69,7 @@ struct BalanceController::Impl {
   Eigen::Vector2d shift_start = Eigen::Vector2d::Zero(), shift_end = Eigen::Vector2d::Zero();
   Eigen::Vector2d shift_end_velocity = Eigen::Vector2d::Zero();  // the weight shift's CoM path
   Eigen::Vector2d com_desired = Eigen::Vector2d::Zero();
+  Eigen::Vector2d com_integral = Eigen::Vector2d::Zero();  // the planner's target less com_desired (tvr.integral_gain)
   bool com_desired_set = false;
   Eigen::Vector2d foothold = Eigen::Vector2d::Zero();
   Eigen::Vector2d landed = Eigen::Vector2d::Zero(), planned = Eigen::Vector2d::Zero();

@@ -88,12 +88,14 @@ void BalanceController::Impl::plan_step(const wholebody::PhaseInfo& ph, bool rep
   wholebody::TvrInput in;
   pendulum_state(wholebody::other(sw), in.com_m, in.com_velocity_m_s);
   in.stance_foot_m = foot_point(wholebody::other(sw)).head<2>();
-  in.com_desired_m = com_desired;
+  in.com_desired_m = com_desired + com_integral;
   in.swing = sw;
   in.time_to_switch_s = ph.phase_duration_s - ph.time_in_phase_s;
   const wholebody::TvrPlan plan = tvr.plan(in);
   foothold = plan.foothold_m;
   if (!replan) {
+    const double limit = setup.tvr_integral_limit_m;
+    com_integral = (com_integral + setup.tvr_integral_gain.cwiseProduct(com_desired - plan.switching_com_m)).cwiseMax(-limit).cwiseMin(limit);
     const Eigen::Vector3d lift_off = foot_point(sw);
     swing.start(lift_off, Eigen::Vector3d(foothold.x(), foothold.y(), lift_off.z()), ph.phase_duration_s);
   } else {

@@ -97,7 +97,13 @@ void read_phases(const yaml::Fields& f, const YAML::Node& x, wholebody::PhaseMac
 
 void read_planner(const yaml::Fields& f, const YAML::Node& n, BalanceSetup& b) {
   f.optional(n, "tvr", [&](const YAML::Node& x) {
-    f.keys(x, "balance.tvr", {"t_prime_s", "kappa", "com_height_m", "lateral_width_m"});
+    f.keys(x, "balance.tvr", {"t_prime_s", "kappa", "com_height_m", "lateral_width_m", "integral_gain", "integral_limit_m"});
+    f.optional(x, "integral_gain", [&](const YAML::Node& y) {
+      b.tvr_integral_gain = vec2(f, y, "balance.tvr.integral_gain");
+      if (!(b.tvr_integral_gain.array() >= 0.0).all() || !(b.tvr_integral_gain.array() <= 1.0).all())
+        f.fail(y, "balance.tvr.integral_gain: expected two gains from 0 to 1 (per step)");
+    });
+    f.optional(x, "integral_limit_m", [&](const YAML::Node& y) { b.tvr_integral_limit_m = f.number_in(y, "balance.tvr.integral_limit_m", 0.0, 10.0, "m"); });
     f.optional(x, "lateral_width_m", [&](const YAML::Node& y) { b.tvr.lateral_width_m = f.number_in(y, "balance.tvr.lateral_width_m", 0.0, 2.0, "m"); });
     f.optional(x, "t_prime_s", [&](const YAML::Node& y) { b.tvr.t_prime_s = vec2(f, y, "balance.tvr.t_prime_s"); });
     f.optional(x, "kappa", [&](const YAML::Node& y) { b.tvr.kappa = vec2(f, y, "balance.tvr.kappa"); });

@@ -17,6 +17,10 @@
 //   com_lateral_velocity_reversals    fraction of the steps between consecutive touch-downs
 //                                     (before the fall) in which balance.com_vy changes sign
 //   peak_winding_C {cooled, uncooled} largest knee winding temperature (both knees)
+//   uncooled_passes_s, thermal_contrast
+//                                     with winding_uncooled_above_C: when an uncooled winding
+//                                     first passed it (null: never); with winding_cooled_below_C
+//                                     too: holds or fails (Fig. 7d's contrast over the run)
 //   wbc_tick_us {median, max}, real_time_factor, qp_failures (the last count)
 //   pushes [{start_s, duration_s, force_N, direction, survived, lipm}]  each interval a force's
 //                                     source is nonzero, up to the variant's duration; force
@@ -125,6 +129,29 @@ void winding_metrics(const VariantResult& r, Cooling cooling, const std::vector<
     }
 }
 
+// When the uncooled windings (any of `joints`) first passed `above_C`, null if never; and
+// Fig. 7d's contrast over the run: holds when the cooled peak stayed below `below_C` and
+// the uncooled one passed `above_C` (the simulated temperatures decide it exactly).
+void thermal_contrast(const VariantResult& r, const BalanceParams& p, nlohmann::json& m) {
+  if (!p.uncooled_above_C) return;
+  double first = std::numeric_limits<double>::infinity();
+  for (const auto& joint : p.winding_joints) {
+    const int c = r.log.find(joint + ".T_winding_uncooled");
+    if (c < 0) continue;
+    const auto& T = r.log.column(c);
+    for (std::size_t k = 0; k < T.size(); ++k)
+      if (T[k] > *p.uncooled_above_C) {
+        first = std::min(first, r.log.time()[k]);
+        break;
+      }
+  }
+  m["uncooled_passes_s"] = std::isfinite(first) ? nlohmann::json(first) : nlohmann::json(nullptr);
+  const nlohmann::json& peaks = m.value("peak_winding_C", nlohmann::json::object());
+  if (!p.cooled_below_C || !peaks.contains("cooled") || !peaks.contains("uncooled")) return;
+  const bool holds = peaks["cooled"].get<double>() < *p.cooled_below_C && std::isfinite(first);
+  m["thermal_contrast"] = holds ? "holds" : "fails";
+}
+
 // ---------------------------------------------------------------- metrics
 // A logged count as a JSON integer (null if not finite).
 nlohmann::json count(double x) { return std::isfinite(x) ? nlohmann::json(std::llround(x)) : nlohmann::json(nullptr); }
@@ -142,6 +169,7 @@ void run_metrics(const BalanceRun& run, const BalanceParams& p, const VariantFac
   m["swing_foot_peak_speed_m_s"] = swing.speed_m_s;
   m["swing_foot_peak_accel_m_s2"] = swing.accel_m_s2;
   winding_metrics(run.r, v.cooling, p.winding_joints, m);
+  thermal_contrast(run.r, p, m);
   for (const char* stat : {"median", "max"})
     if (const auto it = run.r.timing_us.find(std::string("wbc_tick_us_") + stat); it != run.r.timing_us.end()) m["wbc_tick_us"][stat] = it->second;
   m["real_time_factor"] = run.r.real_time_factor;
@@ -361,7 +389,9 @@ std::map<std::string, KeyKind> balance_experiment_keys() {
             {"replay_duration_s", KeyKind::Number},
             {"replay_from_s", KeyKind::Number},
             {"replay_cooled_below_C", KeyKind::Number},
-            {"replay_uncooled_above_C", KeyKind::Number}});
+            {"replay_uncooled_above_C", KeyKind::Number},
+            {"winding_cooled_below_C", KeyKind::Number},
+            {"winding_uncooled_above_C", KeyKind::Number}});
   return k;
 }
 

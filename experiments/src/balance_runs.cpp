@@ -68,8 +68,10 @@ BalanceParams read_balance_params(const ExperimentSetup& e, const std::vector<Va
       break;
     }
   BalanceParams p{text_or(e, "leg", ""), number_or(e, "start_s", 4.0), number_or(e, "fall_height_m", 0.6), number_or(e, "fall_tilt_rad", 0.5),
-                  prefix, {}, std::nullopt, &e};
+                  prefix, {}, std::nullopt, std::nullopt, std::nullopt, &e};
   if (const auto it = e.names.find("winding_joints"); it != e.names.end()) p.winding_joints = it->second;
+  if (e.number.count("winding_cooled_below_C")) p.cooled_below_C = e.number.at("winding_cooled_below_C");
+  if (e.number.count("winding_uncooled_above_C")) p.uncooled_above_C = e.number.at("winding_uncooled_above_C");
   if (e.number.count("swing_speed_max_m_s") != e.number.count("swing_accel_max_m_s2"))
     throw InputError(e.file + ": experiment " + e.type + ": give swing_speed_max_m_s and swing_accel_max_m_s2 together (the swing foot's reach)");
   if (e.number.count("swing_speed_max_m_s")) {

@@ -25,6 +25,9 @@ struct BalanceParams {
   double start_s, fall_height_m, fall_tilt_rad;
   std::string prefix;                        // the balancing controller's signals: its name and "."
   std::vector<std::string> winding_joints;   // whose winding temperatures are reported (`winding_joints`)
+  // Fig. 7d's contrast (`winding_cooled_below_C`, `winding_uncooled_above_C`): the cooled
+  // windings' peak must stay below the first, the uncooled ones' must pass the second.
+  std::optional<double> cooled_below_C, uncooled_above_C;
   std::optional<SwingLimits> reach;          // `swing_speed_max_m_s` and `swing_accel_max_m_s2`: the pushes' verdicts count the foot's reach
   const ExperimentSetup* setup = nullptr;    // its figure labels
 };

@@ -127,6 +127,13 @@ struct BalanceSetup : BusControllerOptions {
   // TvrPoint::Torso's offset from the torso origin in its heading frame (x forward, y
   // left), m (`tvr_point.torso_offset_m`).
   Eigen::Vector2d tvr_torso_offset_m{0.06, 0.0};
+  // `tvr.integral_gain` [x, y] (per step, 0: none): integral action on the pull to the
+  // start. At each swing's start the planner's target moves by gain × (x_des − x_s), the
+  // start less where the CoM will be at the switch, up to ±integral_limit_m; a constant
+  // bias the pendulum does not model (a line foot's centre of pressure off its centre)
+  // then leaves no steady offset.
+  Eigen::Vector2d tvr_integral_gain = Eigen::Vector2d::Zero();
+  double tvr_integral_limit_m = 0.2;
   BalanceTaskGains task_gains;           // feedback in the IK tasks (none by default but com's)
   // The IK's weight on the floating base's six coordinates (the joints': 1): 1 is the
   // authors' least-norm step; larger keeps the IK from "moving" the robot about its point
