@@ -133,7 +133,7 @@ struct BalanceSetup : BusControllerOptions {
   // bias the pendulum does not model (a line foot's centre of pressure off its centre)
   // then leaves no steady offset.
   Eigen::Vector2d tvr_integral_gain = Eigen::Vector2d::Zero();
-  double tvr_integral_limit_m = 0.2;
+  double tvr_integral_limit_m = 0.2;    // `tvr.integral_limit_m`: the largest move of the target, m, per axis
   BalanceTaskGains task_gains;           // feedback in the IK tasks (none by default but com's)
   // The IK's weight on the floating base's six coordinates (the joints': 1): 1 is the
   // authors' least-norm step; larger keeps the IK from "moving" the robot about its point
