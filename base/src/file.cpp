@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/base/temporaries.hpp"
 #include "dmbd/base/text.hpp"
 
 namespace dmbd {
@@ -22,6 +23,7 @@ void write_file_atomic(const std::string& path, const std::vector<unsigned char>
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw OutputError("cannot write '" + path + "': a directory is in the way");
   const std::string tmp = path + ".tmp";
+  const TemporaryPath removed_on_signal(tmp);
   std::FILE* file = std::fopen(tmp.c_str(), "wb");
   if (file == nullptr) fail(path, errno);
   const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();

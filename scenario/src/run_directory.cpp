@@ -15,6 +15,7 @@
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/file.hpp"
+#include "dmbd/base/temporaries.hpp"
 #include "dmbd/scenario/evaluate.hpp"
 
 namespace dmbd::scenario {
@@ -29,6 +30,17 @@ void make_dir(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw OutputError("cannot create the folder '" + dir + "': " + (ec ? ec.message() : "a file is in the way"));
+}
+
+// A run directory being written again loses its report first: an interrupted run must
+// not leave a page that links the frames and video of the run before. A killed run's
+// temporary files go too.
+void forget_earlier_report(const std::string& dir) {
+  std::error_code ec;
+  fs::remove(fs::path(dir) / "report.html", ec);
+  if (ec) throw OutputError("cannot remove the earlier report '" + (fs::path(dir) / "report.html").string() + "': " + ec.message());
+  remove_stale_temporaries(dir);
+  remove_stale_temporaries((fs::path(dir) / "plots").string());
 }
 
 nlohmann::json metrics_json(const Scenario& s, const std::vector<VariantResult>& runs, const experiments::ExperimentResult& e) {
@@ -75,6 +87,7 @@ ScenarioRun write_run(const Scenario& s, std::vector<VariantResult> runs, const 
   res.runs = std::move(runs);
   // The log first: it is there to look at even when the experiment's analysis fails.
   make_dir(dir);
+  forget_earlier_report(dir);
   write_file_atomic((fs::path(dir) / "log.csv").string(), combined_csv(res.runs));
   res.files.push_back("log.csv");
   res.experiment = evaluate_experiment(s, res.runs);
