@@ -138,6 +138,9 @@ ScenarioRun read_run(const std::string& dir) {
       read_run_json(j, r);
     } catch (const nlohmann::json::exception& e) {
       throw InputError(mfile + ": runs." + r.name + ": not the facts of a run: " + e.what());
+    } catch (InputError& e) {
+      e.prepend(mfile + ": runs." + r.name + ": ");
+      throw;
     }
     res.runs.push_back(std::move(r));
   }

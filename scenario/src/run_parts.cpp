@@ -157,9 +157,16 @@ VariantResult read_part(const Scenario& s, const VariantSetup& v, const std::str
   r.axes = v.axes;
   try {
     r.log = read_log(part["log"], pfile, lfile);
-    read_run_json(part["run"], r);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(pfile + ": not a part of a sweep: " + e.what());
+  }
+  try {
+    read_run_json(part["run"], r);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(pfile + ": run: not the facts of a run: " + e.what());
+  } catch (InputError& e) {  // "run.FIELD: ..."
+    e.prepend(pfile + ": ");
+    throw;
   }
   return r;
 }

@@ -164,6 +164,19 @@ TEST_F(RunData, CollectOfFieldsOfTheWrongKindOrALogOfAnotherSizeIsOneLine) {
                               (d / "parts/2/part.json").string() + " says)");
 }
 
+// Found by fuzz_sweep_part: a count too large for its integer (a float such as 7.18e20)
+// was converted anyway (undefined behaviour); now one line, in part.json and metrics.json.
+TEST_F(RunData, ACountBeyondItsIntegerInTheRunFactsIsOneLine) {
+  fs::path d = damaged_plan([](nlohmann::json& p) { p["run"]["integrator_steps"] = 7.18e20; });
+  expect_collect_error(d, (d / "parts/2/part.json").string() + ": run.integrator_steps: 7.18e+20 (expected a whole number)");
+  fs::remove_all(d);
+  d = damaged_run([](std::vector<std::string>&) {});
+  nlohmann::json m = nlohmann::json::parse(slurp(d / "metrics.json"));
+  m["runs"]["encoder"]["controller_steps"] = {1.5};
+  write(d / "metrics.json", m.dump());
+  expect_report_error(d, (d / "metrics.json").string() + ": runs.encoder: run.controller_steps: 1.5 (expected a whole number)");
+}
+
 // Row 8.
 TEST_F(RunData, EndlessInputsAreRefusedAtOnce) {
   const auto sim = run_dmbd({"simulate", "/dev/zero", "--out", (root() / "t").string()}, root());
