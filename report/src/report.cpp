@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include "dmbd/base/error.hpp"
-#include "dmbd/base/temporaries.hpp"
 #include "dmbd/model/robot_description.hpp"
 #include "dmbd/viz/plot.hpp"
 #include "dmbd/viz/report.hpp"
@@ -72,13 +71,8 @@ void add_video(viz::Report& rep, const detail::Frames& f, std::vector<std::strin
 ReportResult write_report(const scenario::ScenarioRun& run, const std::string& dir, const ReportOptions& options) {
   const fs::path d(dir);
   make_dir(d / "plots");
-  // The page goes first (it links the frames and video removed below), and whatever a
-  // killed run left half-written.
+  scenario::forget_earlier_report(dir);  // the page first: it links the frames and video removed below
   std::error_code ec;
-  fs::remove(d / "report.html", ec);
-  if (ec) throw OutputError("cannot remove the earlier report '" + (d / "report.html").string() + "': " + ec.message());
-  remove_stale_temporaries(d.string());
-  remove_stale_temporaries((d / "plots").string());
   ReportResult res;
   viz::Report rep;
   rep.title = run.scenario.name;

@@ -32,17 +32,6 @@ void make_dir(const std::string& dir) {
   if (ec || !fs::is_directory(dir)) throw OutputError("cannot create the folder '" + dir + "': " + (ec ? ec.message() : "a file is in the way"));
 }
 
-// A run directory being written again loses its report first: an interrupted run must
-// not leave a page that links the frames and video of the run before. A killed run's
-// temporary files go too.
-void forget_earlier_report(const std::string& dir) {
-  std::error_code ec;
-  fs::remove(fs::path(dir) / "report.html", ec);
-  if (ec) throw OutputError("cannot remove the earlier report '" + (fs::path(dir) / "report.html").string() + "': " + ec.message());
-  remove_stale_temporaries(dir);
-  remove_stale_temporaries((fs::path(dir) / "plots").string());
-}
-
 nlohmann::json metrics_json(const Scenario& s, const std::vector<VariantResult>& runs, const experiments::ExperimentResult& e) {
   nlohmann::json m = e.metrics;
   m["scenario"] = s.name;
@@ -52,6 +41,15 @@ nlohmann::json metrics_json(const Scenario& s, const std::vector<VariantResult>&
 }
 
 }  // namespace
+
+void forget_earlier_report(const std::string& dir) {
+  const fs::path page = fs::path(dir) / "report.html";
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(page, ec))) fs::remove(page, ec);  // a folder in the way: its writer says so
+  if (ec) throw OutputError("cannot remove the earlier report '" + page.string() + "': " + ec.message());
+  remove_stale_temporaries(dir);
+  remove_stale_temporaries((fs::path(dir) / "plots").string());
+}
 
 nlohmann::json finite_json(const nlohmann::json& j) {
   if (j.is_object()) {
