@@ -12,6 +12,7 @@
 #include "analyze_cmd.hpp"
 #include "codegen_cmd.hpp"
 #include "dmbd/base/error.hpp"
+#include "dmbd/base/temporaries.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/version.hpp"
 #include "draw_cmd.hpp"
@@ -100,6 +101,7 @@ int main(int argc, char** argv) {
     std::cerr << "dmbd: error: " << one_line(e.what()) << " (see dmbd --help)\n";
     return 2;
   }
+  dmbd::remove_temporaries_on_signals();  // an interrupted run leaves no .tmp file
   for (const auto& c : commands)
     if (c->selected()) return run_command(*c);
   return 0;

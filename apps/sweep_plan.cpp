@@ -138,7 +138,7 @@ SweepPlan write_sweep_plan(const scenario::Scenario& s, const std::string& dir, 
 SweepPlan read_sweep_plan(const std::string& dir) {
   const std::string file = (fs::path(dir) / "plan.json").string();
   std::string text;
-  if (const auto reason = try_read_file(file, text))
+  if (const auto reason = try_read_text_file(file, text))
     throw InputError(file + ": cannot read the plan: " + *reason + " (expected a folder written by dmbd sweep plan)");
   SweepPlan p;
   try {

@@ -6,6 +6,8 @@
 #include <filesystem>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/base/temporaries.hpp"
+#include "dmbd/base/text.hpp"
 
 namespace dmbd {
 
@@ -21,6 +23,7 @@ void write_file_atomic(const std::string& path, const std::vector<unsigned char>
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw OutputError("cannot write '" + path + "': a directory is in the way");
   const std::string tmp = path + ".tmp";
+  const TemporaryPath removed_on_signal(tmp);
   std::FILE* file = std::fopen(tmp.c_str(), "wb");
   if (file == nullptr) fail(path, errno);
   const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
@@ -42,25 +45,52 @@ void write_file_atomic(const std::string& path, const std::string& text) {
   write_file_atomic(path, std::vector<unsigned char>(text.begin(), text.end()));
 }
 
-std::optional<std::string> try_read_file(const std::string& path, std::string& bytes) {
+namespace {
+
+// Reads `path` in chunks into `bytes`, stopping past `limit` and, with `text`, at the
+// first byte that is not text (then `bytes` ends with it); the reason it failed, if it did.
+std::optional<std::string> read_bounded(const std::string& path, std::string& bytes, std::size_t limit, bool text) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return std::string("it is a directory");
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) return std::string(std::strerror(errno));
   bytes.clear();
+  TextScan scan;
+  std::optional<std::string> reason;
   char buffer[65536];
   std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) bytes.append(buffer, n);
-  const int err = std::ferror(file) ? errno : 0;
+  while (!reason && !scan.bad && (n = std::fread(buffer, 1, sizeof buffer, file)) > 0) {
+    bytes.append(buffer, n);
+    if (bytes.size() > limit) reason = "larger than the limit of " + std::to_string(limit) + " bytes";
+    else if (text && scan_text(bytes, false, scan)) bytes.resize(*scan.bad + 1);
+  }
+  const int err = !reason && !scan.bad && std::ferror(file) ? errno : 0;
   std::fclose(file);
   if (err != 0) return std::string(std::strerror(err));
-  return std::nullopt;
+  return reason;
 }
 
-std::string read_file(const std::string& path) {
+}  // namespace
+
+std::optional<std::string> try_read_file(const std::string& path, std::string& bytes, std::size_t limit) {
+  return read_bounded(path, bytes, limit, false);
+}
+
+std::optional<std::string> try_read_text_file(const std::string& path, std::string& text, std::size_t limit) {
+  return read_bounded(path, text, limit, true);
+}
+
+std::string read_file(const std::string& path, std::size_t limit) {
   std::string bytes;
-  if (const auto reason = try_read_file(path, bytes)) throw InputError(path + ": cannot read: " + *reason);
+  if (const auto reason = try_read_file(path, bytes, limit)) throw InputError(path + ": cannot read: " + *reason);
   return bytes;
+}
+
+std::string read_text_file(const std::string& path, std::size_t limit) {
+  std::string text;
+  if (const auto reason = try_read_text_file(path, text, limit)) throw InputError(path + ": cannot read: " + *reason);
+  if (const auto d = not_text(text, path)) throw InputError(d->where.str() + ": " + d->message);
+  return text;
 }
 
 }  // namespace dmbd

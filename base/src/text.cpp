@@ -52,4 +52,17 @@ std::optional<Diagnostic> not_text(const std::string& text, const std::string& f
   return std::nullopt;
 }
 
+bool scan_text(const std::string& text, bool complete, TextScan& scan) {
+  constexpr std::size_t kLongestCharacter = 4;
+  std::size_t i = scan.checked;
+  while (!scan.bad && i < text.size()) {
+    const std::size_t n = text_char_length(text, i);
+    if (n == 0 && !complete && text.size() - i < kLongestCharacter) break;  // perhaps cut off: wait
+    if (n == 0) scan.bad = i;
+    else i += n;
+  }
+  scan.checked = i;
+  return scan.bad.has_value();
+}
+
 }  // namespace dmbd

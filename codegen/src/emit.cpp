@@ -7,6 +7,7 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/codegen/fixed.hpp"
 #include "emit_common.hpp"
+#include "reserved_names.hpp"
 
 namespace dmbd::codegen {
 
@@ -39,6 +40,7 @@ const detail::StepSyntax kCpp{"    ", "", "fx::", "status_"};
 
 std::string emit_header(const LoopProgram& p, const EmitOptions& o) {
   if (p.inputs.empty() || p.outputs.empty()) throw InputError("a controller needs at least one input and one output");
+  detail::check_cpp_names(p);
   const std::string T = to_string(o.scalar);
   std::ostringstream h;
   detail::write_preamble(h, p, p.name + ".hpp", o.source, T,
@@ -76,6 +78,7 @@ extern const char* const kFixedPointRuntime;
 
 std::string emit_fixed_header(const LoopProgram& p, const FixedProgram& f, const EmitOptions& o) {
   if (p.inputs.empty() || p.outputs.empty()) throw InputError("a controller needs at least one input and one output");
+  detail::check_cpp_names(p);
   const int w = f.word_bits;
   const std::string W = w == 32 ? "fx::Word32" : "fx::Word16", sfx = std::to_string(w), I = w == 32 ? "int32_t" : "int16_t";
   auto q = [&](int slot) { return f.q[static_cast<size_t>(slot)]; };

@@ -10,6 +10,7 @@
 #include "dmbd/codegen/fixed.hpp"
 #include "dmbd/version.hpp"
 #include "emit_common.hpp"
+#include "reserved_names.hpp"
 
 namespace dmbd::codegen {
 
@@ -28,13 +29,6 @@ namespace {
 // The C spelling of step(): a function of the state struct `self`, the runtime's
 // functions prefixed fx_, the saturation counter a member of the struct.
 const detail::StepSyntax kC{"  ", "self->", "fx_", "&self->saturations"};
-
-bool is_identifier(const std::string& s) {
-  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) return false;
-  for (char c : s)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
-  return true;
-}
 
 // The runtime functions that `code` calls: fx_name( ... ).
 std::set<std::string> runtime_calls(const std::string& code) {
@@ -81,29 +75,10 @@ std::string runtime_for(const std::string& code) {
   return out;
 }
 
-// Names a signal cannot take in C: the keywords of C99 and what step() itself declares.
-void check_names(const LoopProgram& p) {
-  if (!is_identifier(p.name)) throw InputError("program name '" + p.name + "': expected a C identifier");
-  static const std::set<std::string> keywords{
-      "auto",   "break",  "case",     "char",   "const",    "continue", "default",  "do",       "double",
-      "else",   "enum",   "extern",   "float",  "for",      "goto",     "if",       "inline",   "int",
-      "long",   "register", "restrict", "return", "short",  "signed",   "sizeof",   "static",   "struct",
-      "switch", "typedef", "union",   "unsigned", "void",   "volatile", "while",    "_Bool",    "_Complex",
-      "_Imaginary"};
-  static const std::set<std::string> used{"self", "u", "y", "acc"};
-  for (const Slot& s : p.slots) {
-    if (s.kind == SlotKind::State) continue;  // a member: self->name_
-    if (keywords.count(s.name) || used.count(s.name))
-      throw InputError("signal '" + s.name + "' (" + s.origin + "): " +
-                       (keywords.count(s.name) ? "a C keyword" : "a name the generated C code uses (self, u, y, acc)") +
-                       " cannot name a signal of C output; rename it in the diagram");
-  }
-}
-
 // The two files of one program, floating point (f null) or fixed.
 CFiles emit(const LoopProgram& p, const FixedProgram* f, const EmitOptions& o) {
   if (p.inputs.empty() || p.outputs.empty()) throw InputError("a controller needs at least one input and one output");
-  check_names(p);
+  detail::check_c_names(p);
   const std::string& n = p.name;
   const std::string N = c_macro_prefix(n);
   const std::string sfx = f ? std::to_string(f->word_bits) : "";

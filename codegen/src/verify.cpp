@@ -2,11 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "dmbd/base/process.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/codegen/fixed.hpp"
 #include "dmbd/codegen/interpreter.hpp"
@@ -122,19 +122,42 @@ std::string c_harness(const LoopProgram& p, const std::string& header, const Fix
   return h.str();
 }
 
-std::string quoted(const std::string& path) { return "'" + path + "'"; }
+std::vector<std::string> compiler_and_flags(Language language) {
+  return command_words(language == Language::C ? "cc -std=c99 -O2 -Wall -Wextra -pedantic -Werror -ffp-contract=off"
+                                               : "c++ -std=c++11 -O2 -Wall -Wextra -Werror -fno-exceptions -fno-rtti "
+                                                 "-ffp-contract=off");
+}
+
+std::vector<std::string> output_and_sources(const std::vector<std::string>& sources, const std::string& binary) {
+  std::vector<std::string> words;
+  if (!binary.empty()) words = {"-o", binary};
+  words.insert(words.end(), sources.begin(), sources.end());
+  return words;
+}
+
+// The first line of a compiler's log that mentions an error ("" when none does).
+std::string first_error_line(const fs::path& log) {
+  std::ifstream lf(log);
+  for (std::string line; std::getline(lf, line);)
+    if (line.find("error") != std::string::npos) return line;
+  return "";
+}
 
 }  // namespace
 
+std::vector<std::string> compile_arguments(Language language, const std::vector<std::string>& sources, const std::string& binary) {
+  std::vector<std::string> argv = compiler_and_flags(language);
+  const std::vector<std::string> rest = output_and_sources(sources, binary);
+  argv.insert(argv.end(), rest.begin(), rest.end());
+  return argv;
+}
+
 std::string compile_command(Language language, const std::vector<std::string>& sources, const std::string& binary,
                             const std::string& extra) {
-  std::string cmd = language == Language::C ? "cc -std=c99 -O2 -Wall -Wextra -pedantic -Werror -ffp-contract=off"
-                                            : "c++ -std=c++11 -O2 -Wall -Wextra -Werror -fno-exceptions -fno-rtti "
-                                              "-ffp-contract=off";
+  std::string cmd = shell_line(compiler_and_flags(language));
   if (!extra.empty()) cmd += " " + extra;
-  if (!binary.empty()) cmd += " -o " + quoted(binary);
-  for (const std::string& s : sources) cmd += " " + quoted(s);
-  return cmd;
+  const std::vector<std::string> rest = output_and_sources(sources, binary);
+  return rest.empty() ? cmd : cmd + " " + shell_line(rest);
 }
 
 bool BoundCheck::within(const ErrorBound& b) const {
@@ -223,22 +246,19 @@ VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& head
   } else {
     std::ofstream(src) << cpp_harness(p, scalar, fs::absolute(header).string(), fixed);
   }
-  r.compiler_command = compile_command(language, sources, bin.string());
-  if (std::system((r.compiler_command + " > '" + log.string() + "' 2>&1").c_str()) != 0) {
-    std::ifstream lf(log);
-    std::string line, first;
-    while (std::getline(lf, line))
-      if (line.find("error") != std::string::npos) {
-        first = line;
-        break;
-      }
-    throw InputError("the generated code does not compile: " + first + " (full log: " + log.string() + ")");
-  }
+  const std::vector<std::string> compile = compile_arguments(language, sources, bin.string());
+  r.compiler_command = shell_line(compile);
+  const ProgramRun built = run_program(compile, log.string(), log.string());
+  if (!built.ok())
+    throw InputError("the generated code does not compile: " + (built.exit_code < 0 ? built.why : first_error_line(log)) +
+                     " (full log: " + log.string() + ")");
   // Runs the harness on an input file; returns the generated code's outputs.
+  const std::string harness = fs::absolute(bin).string(), harness_log = (fs::path(work_dir) / "harness.log").string();
   auto run = [&](const fs::path& inputs, const fs::path& outputs, const fs::path& timing_file, size_t rows) {
-    if (std::system(("'" + bin.string() + "' '" + inputs.string() + "' '" + outputs.string() + "' > '" +
-                     timing_file.string() + "'").c_str()) != 0)
-      throw InputError("the verification harness failed to run");
+    const ProgramRun ran = run_program({harness, inputs.string(), outputs.string()}, timing_file.string(), harness_log);
+    if (!ran.ok())
+      throw InputError("the verification harness failed to run: " +
+                       (ran.exit_code < 0 ? ran.why : "exit status " + std::to_string(ran.exit_code)) + " (its errors: " + harness_log + ")");
     std::vector<double> values;
     std::ifstream f(outputs, std::ios::binary);
     double v;

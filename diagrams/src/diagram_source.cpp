@@ -60,7 +60,7 @@ void add_subsystem(const std::string& name, const YAML::Node& file, ParsedDiagra
   if (std::find(chain.begin(), chain.end(), key) != chain.end()) return;
   ParsedDiagram::Subsystem& sub = p.subsystems[name];
   std::string bytes;
-  if (const auto reason = try_read_file(path.string(), bytes)) {
+  if (const auto reason = try_read_text_file(path.string(), bytes)) {
     sub.errors.push_back({rd.at(file), "subsystem '" + name + "': cannot read diagram file '" + path.string() + "': " + *reason});
     return;
   }
@@ -107,7 +107,7 @@ std::shared_ptr<const DiagramSource> DiagramSource::parse(const std::string& yam
 
 std::shared_ptr<const DiagramSource> DiagramSource::load(const std::string& path) {
   std::string bytes;
-  if (const auto reason = try_read_file(path, bytes))
+  if (const auto reason = try_read_text_file(path, bytes))
     throw DiagramError({Diagnostic{Location{path, 0, 0}, "cannot read diagram file '" + path + "': " + *reason}});
   return parse(bytes, path);
 }

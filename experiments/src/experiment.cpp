@@ -10,7 +10,9 @@ namespace dmbd::experiments {
 
 namespace {
 
+// x at the first sample at or after ts (the last when there is none; NaN for no samples).
 double value_at(const std::vector<double>& t, const std::vector<double>& x, double ts) {
+  if (x.empty() || x.size() != t.size()) return std::numeric_limits<double>::quiet_NaN();
   const auto it = std::lower_bound(t.begin(), t.end(), ts - 1e-12);
   return it == t.end() ? x.back() : x[static_cast<std::size_t>(it - t.begin())];
 }

@@ -331,7 +331,7 @@ class Reader {
 
 std::vector<ActuatorParams> load_actuators(const std::string& yaml_path, const NumberParser& numbers) {
   std::string bytes;
-  if (const auto reason = try_read_file(yaml_path, bytes))
+  if (const auto reason = try_read_text_file(yaml_path, bytes))
     throw ModelError(yaml_path + ": cannot read: " + *reason + " (expected a YAML actuator file)");
   return Reader(yaml_path, numbers).run(bytes);
 }

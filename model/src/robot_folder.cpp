@@ -68,7 +68,7 @@ RobotFolder load_robot_folder(const std::string& dir) {
   r.display_name = r.name;
   r.file = r.dir + "/robot.yaml";
   std::string bytes;
-  if (const auto reason = try_read_file(r.file, bytes)) throw ModelError(r.file + ": cannot read the robot file: " + *reason);
+  if (const auto reason = try_read_text_file(r.file, bytes)) throw ModelError(r.file + ": cannot read the robot file: " + *reason);
   yaml::Reader rd(r.file);
   rd.guard([&] { read_robot_yaml(rd, rd.parse(bytes), r); });
   if (rd.failed()) throw ModelError(join_plain(rd.diagnostics()));

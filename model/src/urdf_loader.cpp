@@ -944,7 +944,7 @@ RobotDescription load_urdf(const std::string& path, const UrdfOptions& options) 
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw ModelError(path + ": is a folder (expected a URDF file)");
   std::string text;
-  if (const auto reason = try_read_file(path, text)) throw ModelError(path + ": cannot open the file (" + *reason + ")");
+  if (const auto reason = try_read_text_file(path, text)) throw ModelError(path + ": cannot open the file (" + *reason + ")");
   if (const auto d = not_text(text, path)) throw ModelError(d->where.str() + ": " + d->message);
   const std::string base = fs::path(path).parent_path().string();
   RobotDescription r = parse_urdf(text, base.empty() ? "." : base, path, options);

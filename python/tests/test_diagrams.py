@@ -107,6 +107,11 @@ class Malformed(unittest.TestCase):
         self.assertRegex(str(e), re.escape(path) + r":7:\d+: error: .*gian")
         self.assertEqual([(f, line) for f, line, _, _ in e.diagnostics], [(path, 7)])
 
+    def test_endless_device_is_refused_at_once(self):
+        # issue 28 row 8: a bounded read; /dev/zero is not text at its first byte
+        with self.assertRaisesRegex(dmbd.DiagramError, r"/dev/zero:1:1: .*the file is not text: byte 1 is 0x00"):
+            dmbd.load_diagram("/dev/zero")
+
     def test_missing_file(self):
         with self.assertRaisesRegex(dmbd.DiagramError, "No such file or directory"):
             dmbd.load_diagram(DATA / "no_such_diagram.yaml")

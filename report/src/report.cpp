@@ -71,6 +71,8 @@ void add_video(viz::Report& rep, const detail::Frames& f, std::vector<std::strin
 ReportResult write_report(const scenario::ScenarioRun& run, const std::string& dir, const ReportOptions& options) {
   const fs::path d(dir);
   make_dir(d / "plots");
+  scenario::forget_earlier_report(dir);  // the page first: it links the frames and video removed below
+  std::error_code ec;
   ReportResult res;
   viz::Report rep;
   rep.title = run.scenario.name;
@@ -83,7 +85,6 @@ ReportResult write_report(const scenario::ScenarioRun& run, const std::string& d
     rep.plots.push_back({"plots/" + file, fig.title});
   }
   // Frames of an earlier report would be listed with the new ones.
-  std::error_code ec;
   fs::remove_all(d / "frames", ec);
   fs::remove(d / "video.mp4", ec);
   for (const auto& r : run.runs) res.warnings.insert(res.warnings.end(), r.warnings.begin(), r.warnings.end());

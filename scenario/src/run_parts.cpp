@@ -5,11 +5,15 @@
 #include "run_facts.hpp"
 #include "variant_controllers.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/file.hpp"
@@ -43,22 +47,67 @@ nlohmann::json log_json(const Log& log) {
   return {{"file", "log.bin"}, {"format", "float64, column after column"}, {"byte_order", byte_order()}, {"rows", log.rows()}, {"columns", columns}};
 }
 
-// log.bin read back as part.json's "log" describes it.
+// part.json's "log.columns": [name, unit] pairs of strings, time first, each name once.
+std::vector<std::pair<std::string, std::string>> log_columns(const nlohmann::json& j, const std::string& pfile) {
+  const nlohmann::json& columns = j.contains("columns") ? j["columns"] : nlohmann::json();
+  if (!columns.is_array() || columns.empty())
+    throw InputError(pfile + ": log.columns: expected a list of [name, unit] pairs, time first");
+  std::vector<std::pair<std::string, std::string>> out;
+  std::set<std::string> seen;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const nlohmann::json& e = columns[c];
+    if (!e.is_array() || e.size() != 2 || !e[0].is_string() || !e[1].is_string() || e[0].get<std::string>().empty())
+      throw InputError(fmt::format("{}: log.columns[{}]: expected a [name, unit] pair of strings", pfile, c));
+    out.emplace_back(e[0].get<std::string>(), e[1].get<std::string>());
+    if ((c == 0) != (out.back().first == "t"))
+      throw InputError(fmt::format("{}: log.columns[{}]: '{}' (expected time 't' first and only first)", pfile, c, out.back().first));
+    if (!seen.insert(out.back().first).second)
+      throw InputError(fmt::format("{}: log.columns[{}]: '{}' appears twice (expected each signal once)", pfile, c, out.back().first));
+  }
+  return out;
+}
+
+// part.json's "log.rows": at least one, and no more than a part's log may hold with
+// `n` columns (checked without overflow).
+std::size_t log_rows(const nlohmann::json& j, std::size_t n, const std::string& pfile) {
+  const nlohmann::json& rows = j.contains("rows") ? j["rows"] : nlohmann::json();
+  if (!rows.is_number_unsigned() || rows.get<std::uint64_t>() == 0)
+    throw InputError(pfile + ": log.rows: " + rows.dump() + " (expected a whole number of rows, at least 1)");
+  const std::uint64_t r = rows.get<std::uint64_t>(), most = kMaxDataFileBytes / (n * sizeof(double));
+  if (r > most)
+    throw InputError(fmt::format("{}: log.rows: {} rows of {} columns exceed the limit of a part's log ({} bytes: at most {} rows)",
+                                 pfile, r, n, kMaxDataFileBytes, most));
+  return static_cast<std::size_t>(r);
+}
+
+// log.bin's bytes: exactly `expected` of them.
+std::string log_file_bytes(const std::string& lfile, std::size_t expected, const std::string& what) {
+  std::string bytes;
+  const auto reason = try_read_file(lfile, bytes, expected);
+  if (reason && bytes.size() <= expected) throw InputError(lfile + ": cannot read: " + *reason);
+  if (bytes.size() != expected)
+    throw InputError(fmt::format("{}: {} bytes{}, expected {} ({})", lfile, bytes.size(), reason ? " or more" : "", expected, what));
+  return bytes;
+}
+
+// log.bin read back as part.json's "log" describes it, every field checked first.
 Log read_log(const nlohmann::json& j, const std::string& pfile, const std::string& lfile) {
-  const auto columns = j.at("columns");
-  const std::size_t rows = j.at("rows").get<std::size_t>(), n = columns.size();
+  if (!j.is_object()) throw InputError(pfile + ": log: expected an object with 'columns' and 'rows'");
   if (j.value("byte_order", "") != byte_order())
     throw InputError(pfile + ": the log was written on a machine of " + j.value("byte_order", "?") + "-endian doubles, this one is " + byte_order());
-  const std::string bytes = read_file(lfile);
-  if (n == 0 || bytes.size() != n * rows * sizeof(double))
-    throw InputError(lfile + ": " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(n * rows * sizeof(double)) +
-                     " (" + std::to_string(n) + " columns of " + std::to_string(rows) + " doubles, as " + pfile + " says)");
+  const auto columns = log_columns(j, pfile);
+  const std::size_t n = columns.size(), rows = log_rows(j, n, pfile);
+  const std::string bytes = log_file_bytes(lfile, n * rows * sizeof(double),
+                                           fmt::format("{} columns of {} doubles, as {} says", n, rows, pfile));
   Log log;
-  for (std::size_t c = 1; c < n; ++c) log.add_column(columns[c].at(0).get<std::string>(), columns[c].at(1).get<std::string>());
+  for (std::size_t c = 1; c < n; ++c) log.add_column(columns[c].first, columns[c].second);
   log.reserve(rows);
   std::vector<double> v(n);
   for (std::size_t r = 0; r < rows; ++r) {
     for (std::size_t c = 0; c < n; ++c) std::memcpy(&v[c], bytes.data() + (c * rows + r) * sizeof(double), sizeof(double));
+    if (!std::isfinite(v[0]) || (r > 0 && !(v[0] > log.time().back())))
+      throw InputError(fmt::format("{}: row {}'s time {} is not after the previous row's (expected finite, increasing times)", lfile,
+                                   r + 1, v[0]));
     log.begin_row(v[0]);
     for (std::size_t c = 1; c < n; ++c) log.set(static_cast<int>(c), v[c]);
   }
@@ -90,7 +139,7 @@ void write_part(const Scenario& s, const VariantResult& r, const std::string& di
 VariantResult read_part(const Scenario& s, const VariantSetup& v, const std::string& dir) {
   const std::string pfile = (fs::path(dir) / "part.json").string(), lfile = (fs::path(dir) / "log.bin").string();
   std::string text;
-  if (const auto reason = try_read_file(pfile, text))
+  if (const auto reason = try_read_text_file(pfile, text))
     throw InputError(pfile + ": missing (the run of variant '" + v.name + "' did not finish: " + *reason + ")");
   nlohmann::json part;
   try {
@@ -108,9 +157,16 @@ VariantResult read_part(const Scenario& s, const VariantSetup& v, const std::str
   r.axes = v.axes;
   try {
     r.log = read_log(part["log"], pfile, lfile);
-    read_run_json(part["run"], r);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(pfile + ": not a part of a sweep: " + e.what());
+  }
+  try {
+    read_run_json(part["run"], r);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(pfile + ": run: not the facts of a run: " + e.what());
+  } catch (InputError& e) {  // "run.FIELD: ..."
+    e.prepend(pfile + ": ");
+    throw;
   }
   return r;
 }

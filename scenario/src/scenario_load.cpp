@@ -526,7 +526,7 @@ Scenario read_scenario(const Reader& rd, const YAML::Node& root, const std::stri
 
 Scenario load_scenario(const std::string& path) {
   std::string bytes;
-  if (const auto reason = try_read_file(path, bytes)) throw InputError(path + ": cannot read the scenario file: " + *reason);
+  if (const auto reason = try_read_text_file(path, bytes)) throw InputError(path + ": cannot read the scenario file: " + *reason);
   const Reader rd(yaml::Reader(path, blocks::expression_numbers()), fs::path(path).parent_path().string());
   Scenario s;
   rd.rd.guard([&] { s = read_scenario(rd, rd.rd.parse(bytes), path); });

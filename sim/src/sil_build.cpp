@@ -21,6 +21,7 @@
 #include <fmt/format.h>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/base/process.hpp"
 
 namespace dmbd::sim {
 
@@ -49,23 +50,10 @@ std::string fnv1a_hex(const std::string& text) {
   return fmt::format("{:016x}", h);
 }
 
-// A path as one word of sh.
-std::string quoted(const fs::path& p) {
-  std::string q = "'";
-  for (char c : p.string()) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-// The first line of a command's output ("" when it writes nothing or does not run).
-std::string first_output_line(const std::string& command) {
-  std::FILE* f = ::popen((command + " 2>/dev/null").c_str(), "r");
-  if (!f) return "";
-  std::string line;
-  for (int c = std::fgetc(f); c != EOF && c != '\n'; c = std::fgetc(f)) line += static_cast<char>(c);
-  while (std::fgetc(f) != EOF) {
-  }
-  ::pclose(f);
-  return line;
+// The first line of what a program writes ("" when it writes nothing or does not run).
+std::string first_output_line(const std::vector<std::string>& argv) {
+  const std::string out = program_output(argv);
+  return out.substr(0, out.find('\n'));
 }
 
 // What a compiler's log says went wrong: its first line that mentions an error, else
@@ -78,6 +66,12 @@ std::string compiler_complaint(const fs::path& log, int status) {
     if (first.empty()) first = line;
   }
   return first.empty() ? fmt::format("it failed without a message (exit status {})", status) : first;
+}
+
+std::vector<std::string> with_version_flag(const std::string& command) {
+  std::vector<std::string> argv = command_words(command);
+  argv.push_back("--version");
+  return argv;
 }
 
 // The text a build is known by: compiler, flags and every file.
@@ -108,12 +102,15 @@ SharedObjectBuild compile(const Compiler& c, const SharedObjectSource& s, const 
     }
   }
   const fs::path object = dir / ("lib" + s.name + ".so"), log = dir / "compile.log";
-  const std::string command = c.command + " " + c.flags + " -o " + quoted(object) + " " + quoted(dir / s.main);
+  std::vector<std::string> argv = command_words(c.command);
+  for (const std::string& flag : command_words(c.flags)) argv.push_back(flag);
+  for (const std::string& word : {std::string("-o"), object.string(), (dir / s.main).string()}) argv.push_back(word);
   const auto t0 = std::chrono::steady_clock::now();
-  const int status = std::system((command + " > " + quoted(log) + " 2>&1").c_str());
+  const ProgramRun run = run_program(argv, log.string(), log.string());
   b.compile_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (status != 0) {
-    b.error = fmt::format("does not compile ({}): {} (full log: {})", c.command, compiler_complaint(log, status), log.string());
+  if (!run.ok()) {
+    b.error = fmt::format("does not compile ({}): {} (full log: {})", c.command,
+                          run.exit_code < 0 ? run.why : compiler_complaint(log, run.exit_code), log.string());
     return b;
   }
   try {
@@ -134,7 +131,7 @@ Compiler shared_object_compiler() {
   Cache& k = cache();
   std::lock_guard<std::mutex> lock(k.mutex);
   const auto it = k.versions.find(c.command);
-  c.version = it != k.versions.end() ? it->second : (k.versions[c.command] = first_output_line(c.command + " --version"));
+  c.version = it != k.versions.end() ? it->second : (k.versions[c.command] = first_output_line(with_version_flag(c.command)));
   return c;
 }
 

@@ -32,6 +32,22 @@ inline std::string quote(const std::string& a) {
   return q + "'";
 }
 
+// A CSV line's cells (no quoting: dmbd's logs have none) and back.
+inline std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells(1);
+  for (char c : line) {
+    if (c == ',') cells.emplace_back();
+    else cells.back() += c;
+  }
+  return cells;
+}
+
+inline std::string join(const std::vector<std::string>& cells) {
+  std::string line;
+  for (std::size_t k = 0; k < cells.size(); ++k) line += (k ? "," : "") + cells[k];
+  return line;
+}
+
 // Runs dmbd with `args` (in `cwd` when given), stdout and stderr captured through files
 // in `scratch`, which are removed again.
 inline Result run_dmbd(const std::vector<std::string>& args, const fs::path& scratch, const fs::path& cwd = {}) {

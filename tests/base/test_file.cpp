@@ -80,3 +80,64 @@ TEST(NotText, BytesThatAreNotUtf8AreNamed) {
 }
 
 }  // namespace
+
+// Issue 28 row 8: reading is bounded. A device that never ends stops at its first byte
+// that is not text (/dev/zero, /dev/urandom: at once), a text file larger than the limit
+// stops one chunk past it, and a pipe or /dev/stdin is read like a file.
+namespace bounded {
+
+TEST_F(Files, AnEndlessDeviceStopsAtItsFirstByteThatIsNotText) {
+  std::string text;
+  EXPECT_FALSE(dmbd::try_read_text_file("/dev/zero", text).has_value());
+  ASSERT_EQ(text, std::string(1, '\0'));  // read up to the first byte that is not text, for not_text to name
+  const auto d = dmbd::not_text(text, "/dev/zero");
+  ASSERT_TRUE(d.has_value());
+  EXPECT_EQ(d->where.str() + ": " + d->message,
+            "/dev/zero:1:1: the file is not text: byte 1 is 0x00, a control character (expected a UTF-8 text file)");
+  try {
+    (void)dmbd::read_text_file("/dev/urandom");
+    FAIL() << "no error";
+  } catch (const dmbd::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/urandom:1:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the file is not text: byte "), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(Files, AFileLargerThanTheLimitIsRefused) {
+  const std::string path = write("big.yaml", std::string(200000, 'a'));
+  std::string text;
+  const auto reason = dmbd::try_read_text_file(path, text, 100000);
+  ASSERT_TRUE(reason.has_value());
+  EXPECT_EQ(*reason, "larger than the limit of 100000 bytes");
+  EXPECT_LE(text.size(), 100000u + 65536u);  // one chunk past the limit at most
+  EXPECT_FALSE(dmbd::try_read_file(path, text, 200000).has_value());
+  EXPECT_EQ(text.size(), 200000u);
+  EXPECT_THROW((void)dmbd::read_file("/dev/zero", 1 << 20), dmbd::InputError);  // binary: only the limit
+}
+
+TEST_F(Files, UTF8CutBetweenChunksIsText) {
+  // A three-byte character across the 64 KiB chunk boundary, then a control byte.
+  std::string bytes(65535, 'a');
+  bytes += "\xe2\x82\xac";
+  bytes += "b";
+  const std::string path = write("utf8.txt", bytes);
+  std::string text;
+  EXPECT_FALSE(dmbd::try_read_text_file(path, text).has_value());
+  EXPECT_EQ(text, bytes);
+  EXPECT_FALSE(dmbd::not_text(text, path).has_value());
+  const std::string bad = write("bad.txt", bytes + std::string(100000, 'c') + '\x01' + std::string(100000, 'd'));
+  EXPECT_FALSE(dmbd::try_read_text_file(bad, text).has_value());
+  EXPECT_EQ(text.size(), bytes.size() + 100001);  // stopped at the control byte
+}
+
+TEST_F(Files, APipeIsReadLikeAFile) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const std::string yaml = "blocks: {}\n";
+  ASSERT_EQ(::write(fds[1], yaml.data(), yaml.size()), static_cast<ssize_t>(yaml.size()));
+  ::close(fds[1]);
+  EXPECT_EQ(dmbd::read_text_file("/dev/fd/" + std::to_string(fds[0])), yaml);
+  ::close(fds[0]);
+}
+
+}  // namespace bounded

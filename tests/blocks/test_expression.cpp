@@ -208,6 +208,9 @@ struct BadCase {
   const char* mention;  // a fragment the message must contain
 };
 
+// The cases as ctest lists them (gtest would print the structs' bytes, pointers included).
+void PrintTo(const BadCase& c, std::ostream* os) { *os << "'" << c.text << "' column " << c.column << ": " << c.mention; }
+
 class ExpressionSyntaxError : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(ExpressionSyntaxError, ColumnAndMessage) {
@@ -256,6 +259,11 @@ struct EvalCase {
   const char* mention;
   int column_last = 0;  // [column, column_last] (the span of the offending sub-expression)
 };
+
+void PrintTo(const EvalCase& c, std::ostream* os) {
+  *os << "'" << c.text << "' in " << (c.variable ? std::string(1, c.variable) : std::string("a number")) << " column " << c.column << ": "
+      << c.mention;
+}
 
 class ExpressionEvaluationError : public ::testing::TestWithParam<EvalCase> {};
 

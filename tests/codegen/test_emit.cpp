@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "dmbd/codegen/emit.hpp"
+#include "dmbd/codegen/fixed.hpp"
 #include "dmbd/codegen/loop_program.hpp"
 #include "dmbd/codegen/verify.hpp"
 #include "dmbd/diagrams/diagram.hpp"
@@ -127,6 +128,42 @@ TEST(Emit, VerifyReportsACompileError) {
   const std::string dir = fresh_dir("broken");
   write(dir + "/broken.hpp", emit_header(p, {Scalar::Double, "test"}) + "\nthis is not C++;\n");
   EXPECT_THROW(verify(p, Scalar::Double, dir + "/broken.hpp", dir + "/verify", {}), InputError);
+}
+
+// Issue 28 row 19: the C++ emitter refuses what the C emitter refuses, in its own terms:
+// a signal named as a C++ keyword, as a name step() uses (u, y, acc, fx, status_) or as
+// a state's member (which the local would hide), in floating and fixed point alike; a
+// program name that is a keyword cannot be its namespace. Other names still compile.
+TEST(Emit, NamesThatAreNotCppAreRefusedAsTheCEmitterRefusesItsOwn) {
+  const LoopProgram p = lower(TransferFunction::parse("1/(s + 1)"), "lag", at(1000.0));
+  ASSERT_FALSE(p.states.empty());
+  const std::string member = p.slots[static_cast<size_t>(p.states[0])].name + "_";
+  const FixedProgram f = make_fixed(p, {{-1.0, 1.0}}, 16);
+  EXPECT_NO_THROW(emit_header(p, {Scalar::Double, "test"}));
+  for (const std::string& name : {std::string("u"), std::string("y"), std::string("acc"), std::string("fx"), std::string("status_"),
+                                  std::string("class"), std::string("and"), std::string("int"), member}) {
+    LoopProgram bad = p;
+    bad.slots[static_cast<size_t>(bad.inputs[0])].name = name;
+    for (int fixed = 0; fixed < 2; ++fixed) {
+      try {
+        (void)(fixed ? emit_fixed_header(bad, f, {Scalar::Double, "test"}) : emit_header(bad, {Scalar::Double, "test"}));
+        ADD_FAILURE() << "signal '" << name << "' accepted";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("signal '" + name + "' (", 0), 0u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("cannot name a signal of C++ output; rename it in the diagram"), std::string::npos) << e.what();
+      }
+    }
+  }
+  LoopProgram keyword = p;
+  keyword.name = "namespace";
+  EXPECT_THROW(emit_header(keyword, {Scalar::Double, "test"}), InputError);
+  LoopProgram fine = p;
+  fine.slots[static_cast<size_t>(fine.inputs[0])].name = "self";  // C's, not C++'s
+  const std::string dir = fresh_dir("cpp_names");
+  write(dir + "/lag.hpp", emit_header(fine, {Scalar::Double, "test"}));
+  VerifyResult r;
+  ASSERT_NO_THROW(r = verify(fine, Scalar::Double, dir + "/lag.hpp", dir + "/verify", {{-1.0, 1.0}}));
+  EXPECT_EQ(r.max_abs_error, 0.0);
 }
 
 // The command line's --verify on the paper's Q filter: exit 0, the header written.

@@ -11,6 +11,12 @@
 
 #include <random>
 
+namespace dmbd::model {
+// The base as ctest lists the cases (found by argument-dependent lookup; gtest would print
+// the enum's bytes).
+static void PrintTo(BaseMode b, std::ostream* os) { *os << (b == BaseMode::Fixed ? "fixed base" : "floating base"); }
+}  // namespace dmbd::model
+
 namespace dmbd::model::detail {
 namespace {
 

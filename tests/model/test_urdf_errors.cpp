@@ -25,6 +25,9 @@ struct BadFile {
   bool strict = false;                 // loaded with UrdfOptions::strict (what is otherwise repaired)
 };
 
+// The case as ctest lists it (gtest would print the struct's bytes, pointers included).
+void PrintTo(const BadFile& c, std::ostream* os) { *os << c.file << (c.strict ? " (strict)" : ""); }
+
 class UrdfBadFile : public testing::TestWithParam<BadFile> {};
 
 TEST_P(UrdfBadFile, OneLineWithFileLineAndElement) {
@@ -100,6 +103,8 @@ struct BadText {
   std::string name, xml, marker;
   std::vector<std::string> fragments;
 };
+
+void PrintTo(const BadText& c, std::ostream* os) { *os << c.name; }
 
 class UrdfBadText : public testing::TestWithParam<BadText> {};
 

@@ -275,12 +275,51 @@ TEST(SimSil, ACompilerThatFailsIsALocatedOneLineError) {
                         0),
                 0u)
           << m;
-      EXPECT_NE(m.find(cxx == dir.file("no_such_compiler") ? "not found" : "#error this compiler refuses the generated code"),
+      EXPECT_NE(m.find(cxx == dir.file("no_such_compiler") ? "No such file or directory" : "#error this compiler refuses the generated code"),
                 std::string::npos)
           << m;
     }
     EXPECT_FALSE(fs::exists(dir.file("out")));
   }
+}
+
+// $TMPDIR for the life of the object.
+class TempFolderOverride {
+ public:
+  explicit TempFolderOverride(const std::string& dir) {
+    if (const char* old = std::getenv("TMPDIR")) old_ = old;
+    ::setenv("TMPDIR", dir.c_str(), 1);
+  }
+  ~TempFolderOverride() {
+    if (old_.empty()) ::unsetenv("TMPDIR");
+    else ::setenv("TMPDIR", old_.c_str(), 1);
+  }
+  TempFolderOverride(const TempFolderOverride&) = delete;
+  TempFolderOverride& operator=(const TempFolderOverride&) = delete;
+
+ private:
+  std::string old_;
+};
+
+// Issue 28 row 16: the build folder's path (under $TMPDIR) holds quotes and a command;
+// the compiler is started without a shell, so the controller builds and runs and the
+// command never runs. (A define of its own in $CXX: a build this process has not cached.)
+TEST(SimSil, ABuildFolderOfAnyNameCompilesAndRunsNoCommand) {
+  TempDir dir;
+  const std::string path = dir.file("s.yaml"), pwned = dir.file("PWNED_SIL"), pwned2 = dir.file("PWNED_SIL2");
+  const std::string tmp = dir.file("t'; touch " + pwned + "; echo '$(touch " + pwned2 + ")");
+  fs::create_directories(tmp);
+  write_text(path, knee_scenario("generated"));
+  const Scenario s = dmbd::scenario::load_scenario(path);
+  {
+    const CompilerOverride o("c++ -DDMBD_ISSUE28_NO_SHELL=1");
+    const TempFolderOverride t(tmp);
+    const ScenarioRun r = dmbd::scenario::run_scenario(s, dir.file("out"));
+    EXPECT_TRUE(r.runs.size() == 1 && r.runs[0].log.rows() > 10u);
+  }
+  EXPECT_FALSE(fs::exists(pwned));
+  EXPECT_FALSE(fs::exists(pwned2));
+  EXPECT_TRUE(fs::exists(dir.file("out/log.csv")));
 }
 
 // The command line: exit status 2, the one line on stderr, no run directory.

@@ -3,6 +3,7 @@
 #include "dmbd/viz/video.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -17,6 +18,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+
+#include "dmbd/base/temporaries.hpp"
 
 namespace dmbd::viz {
 namespace {
@@ -89,6 +92,7 @@ std::string to_string(VideoCodec codec) {
 
 struct VideoWriter::Impl {
   std::string path, tmp;
+  std::unique_ptr<TemporaryPath> removed_on_signal;  // tmp, while it may exist
   double fps = 0.0;
   VideoOptions options;
   cv::VideoWriter writer;
@@ -142,6 +146,7 @@ VideoWriter::VideoWriter(std::string path, double fps, VideoOptions options) : i
   if (options.codecs.empty())
     throw std::invalid_argument(fmt::format("viz: video '{}': no codec to try (VideoOptions::codecs is empty)", path));
   impl_->tmp = temporary_name(path);
+  impl_->removed_on_signal = std::make_unique<TemporaryPath>(impl_->tmp);
   impl_->path = std::move(path);
   impl_->fps = fps;
   impl_->options = std::move(options);

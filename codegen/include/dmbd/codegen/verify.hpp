@@ -91,13 +91,18 @@ std::vector<std::vector<double>> verification_inputs(const LoopProgram& p,
                                                      int chirp_samples = kVerifyChirpSamples,
                                                      int step_samples = kVerifyStepSamples);
 
-// The command that compiles and links `sources` into `binary` with the flags generated
-// code must compile with, and without floating-point contraction (so that C, C++ and
-// the interpreter round alike whatever the compiler's default):
+// The argument vector that compiles and links `sources` into `binary` with the flags
+// generated code must compile with, and without floating-point contraction (so that C,
+// C++ and the interpreter round alike whatever the compiler's default):
 //   C++: c++ -std=c++11 -O2 -Wall -Wextra -Werror -fno-exceptions -fno-rtti -ffp-contract=off
 //   C:   cc -std=c99 -O2 -Wall -Wextra -pedantic -Werror -ffp-contract=off
-// `extra`: more flags (e.g. -c). Every path is quoted for the shell (in single quotes:
-// a path containing one breaks the command). No -o when `binary` is empty.
+// then -o `binary` (none when it is empty) and the sources, each one word whatever its
+// characters: started with run_program (base/process.hpp), no shell reads them.
+std::vector<std::string> compile_arguments(Language language, const std::vector<std::string>& sources, const std::string& binary);
+
+// The same as one line for sh (messages, reports, tests that run it through a shell):
+// each path quoted so that any name survives; `extra` (more flags, e.g. -c) is put in
+// verbatim after the flags.
 std::string compile_command(Language language, const std::vector<std::string>& sources, const std::string& binary,
                             const std::string& extra = "");
 
@@ -111,8 +116,8 @@ std::string compile_command(Language language, const std::vector<std::string>& s
 // With `fixed`, the header is the fixed-point one: compared bit for bit with the fixed
 // interpreter, and against the double program with the predicted bound, its hypothesis
 // checked (on the full input, then if need be on a scaled copy: `clamp_free`); `scalar`
-// is then unused. The commands run through the shell (std::system): c++ (C: cc) must be
-// on the PATH.
+// is then unused. The compiler and the harness are started without a shell (an argument
+// vector: run_program), so any path works; c++ (C: cc) must be on the PATH.
 VerifyResult verify(const LoopProgram& p, Scalar scalar, const std::string& header, const std::string& work_dir,
                     const std::vector<std::pair<double, double>>& ranges, const FixedProgram* fixed = nullptr,
                     Language language = Language::Cpp);

@@ -63,6 +63,14 @@ ScenarioRun write_run(const Scenario& s, std::vector<sim::VariantResult> runs, c
 // naming the file that is missing or malformed.
 ScenarioRun read_run(const std::string& dir);
 
+// A run directory about to be written again (write_run, report::write_report): its
+// report.html removed first, so that an interrupted or failed run never leaves a page
+// that links the frames or video of the run before, and the temporary files a killed run
+// left (*.tmp, video.tmp.mp4; base/temporaries.hpp) swept, in it and in plots/. A folder
+// where the page goes is left for the page's writer to report. OutputError when the page
+// cannot be removed.
+void forget_earlier_report(const std::string& dir);
+
 // The log of several variants as one table: columns "variant/signal", one row per
 // instant any run logged (variants may log at different rates or for different
 // durations); a run's cells are empty at an instant it did not log. A single variant

@@ -2,7 +2,8 @@
 // C++ source compiled by the system compiler into a shared object
 // while the program runs, and loaded (software in the loop: sil_controller.hpp).
 //
-// The compiler is $CXX when set (a command, as make takes it), else `c++`, with
+// The compiler is $CXX when set (its words split at blanks, started without a shell:
+// base/process.hpp), else `c++`, with
 // kSharedObjectFlags. Builds are cached for the life of the process by their exact text
 // (compiler, flags and every file), so identical sources compile once; sources not yet
 // built are compiled several at once (one compiler per core). Each build happens in its
