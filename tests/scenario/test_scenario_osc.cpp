@@ -1,13 +1,15 @@
 // The shipped operational-space-control scenarios (paper Sec. IV-A, Fig. 6), whole:
 // osc_table.yaml (the paper's and the authors' paths, with and without the disturbance
-// observer), osc_table_amplitude.yaml (the paper's 1.4 Hz path, amplitude swept) and
+// observer, on the robot's output damping), osc_table_amplitude.yaml (the paper's 1.4 Hz path, amplitude swept, on Table I's) and
 // osc_table_damping.yaml (the robot's output damping swept).
 // What is asserted is what docs/experiments.md reports: the authors' path is followed
-// within issue 14's figures with the DOB, the DOB lowers every joint's torque error,
-// and the paper's 0.3 m at 1.4 Hz is beyond the hip pitch actuator's current (the
-// largest amplitude followed within the limits is 0.15 m).
+// within issue 14's figures with the DOB, the DOB lowers every joint's torque error, the
+// paper's 0.3 m at 1.4 Hz is followed within Fig. 6's figures on the robot's output
+// damping, and on Table I's it is beyond the hip pitch actuator's current (the largest
+// amplitude followed within the limits there is 0.15 m).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "dmbd/scenario/run_directory.hpp"
@@ -35,9 +37,10 @@ void print(const std::string& name, const nlohmann::json& m) {
 
 // Issue 14's figures, on the path the leg can follow: the ankle within 5 % of the
 // forward amplitude (7.5 mm of 0.15 m) and 5 mm laterally and vertically; each joint's
-// torque error within 10 % of its peak command (`torques`: at small amplitudes the hip
-// roll's and ankle's commands, under 1 N m, are at the sensed force's noise floor of
-// about 0.05-0.2 N m, and the ratio says nothing); no current at its limit.
+// torque error within 10 % of its peak command, or, for a command that peaks below 2 N m,
+// within the sensed force's noise floor of about 0.05-0.2 N m (0.2 N m: there the ratio
+// says nothing; `torques`: at small amplitudes every joint but the hip pitch and knee is
+// down there); no current at its limit.
 void expect_followed(const nlohmann::json& m, double amplitude_m, bool torques = true) {
   EXPECT_LE(rms(m, "x"), 0.05 * amplitude_m);
   EXPECT_LE(rms(m, "y"), 5e-3);
@@ -45,7 +48,7 @@ void expect_followed(const nlohmann::json& m, double amplitude_m, bool torques =
   EXPECT_EQ(m["current_saturation_fraction"].get<double>(), 0.0);
   if (!torques) return;
   for (const auto& [joint, err] : m["torque_rms_error_Nm"].items())
-    EXPECT_LE(err.get<double>(), 0.1 * m["torque_peak_Nm"][joint].get<double>()) << joint;
+    EXPECT_LE(err.get<double>(), std::max(0.1 * m["torque_peak_Nm"][joint].get<double>(), 0.2)) << joint;
 }
 
 TEST(OscShippedScenarios, TableTestFollowsTheAuthorsPathAndTheDobLowersEveryTorqueError) {
@@ -63,9 +66,11 @@ TEST(OscShippedScenarios, TableTestFollowsTheAuthorsPathAndTheDobLowersEveryTorq
     ASSERT_EQ(dob.size(), 5u);  // the moving leg's five joints
     for (const auto& [joint, err] : dob.items()) EXPECT_LT(err.get<double>(), pd[joint].get<double>()) << path << " " << joint;
   }
-  // The paper's path asks the hip pitch for more than its current limit allows.
-  EXPECT_GT(osc["paper_dob"]["current_saturation_fraction"].get<double>(), 0.3);
-  EXPECT_GT(osc["paper_dob"]["torque_peak_Nm"]["l_hip_pitch"].get<double>(), 300.0);
+  // Fig. 6 on the robot's output damping (the actuator file's load set `robot`): the
+  // paper's 0.3 m at 1.4 Hz followed within 15 mm forward and 5 mm laterally and
+  // vertically, no current at its limit (measured 4.1 / 4.4 / 2.0 mm; on Table I's
+  // damping the hip pitch's current saturated in 66 % of the window).
+  expect_followed(osc["paper_dob"], 0.3);
   for (const auto& run : r.runs) EXPECT_GT(run.real_time_factor, 1.0) << run.name;
 }
 
@@ -82,10 +87,10 @@ TEST(OscShippedScenarios, TheLargestAmplitudeFollowedAt1p4HzIs0p15m) {
 }
 
 // osc_table_damping.yaml (every joint's B_l at s times its file value): Fig. 6's figures
-// hold at s = 0.25 and fail at 0.3 (a current at its limit) and at 1 (Table I's value);
-// at s = 1 the run is osc_table.yaml's paper_dob bit for bit (a scale of 1 changes
-// nothing, and the OSC's feedforward reads the plant's own B_l).
-TEST(OscShippedScenarios, TheDampingSweepHoldsFig6UpToAQuarterOfTableIsBl) {
+// hold at s = 0.2 and 0.25 and fail at 0.3 (a current at its limit) and at 1 (Table I's
+// value); at s = 0.2 the run is osc_table.yaml's paper_dob (on the load set `robot`,
+// 0.2 times the stand's) bit for bit, and the OSC's feedforward reads the plant's own B_l.
+TEST(OscShippedScenarios, TheDampingSweepHoldsFig6UpToAQuarterOfTableIsBlAndTheTableRunsAtAFifth) {
   TempDir dir;
   const std::string examples = std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/";
   Scenario s = load_scenario(examples + "osc_table_damping.yaml");
@@ -97,16 +102,16 @@ TEST(OscShippedScenarios, TheDampingSweepHoldsFig6UpToAQuarterOfTableIsBl) {
     ASSERT_EQ(kept.size(), names.size());
     x.variants = kept;
   };
-  keep(s, {"s0.25/paper_dob", "s0.3/paper_dob", "s1/paper_dob"});
+  keep(s, {"s0.2/paper_dob", "s0.25/paper_dob", "s0.3/paper_dob", "s1/paper_dob"});
   const ScenarioRun r = run_scenario(s, dir.file("sweep"));
   for (const auto& [name, m] : r.metrics["osc"].items()) print(name, m);
   const auto& line = r.metrics["sweeps"]["damping_fig6"]["lines"]["paper_dob"];
-  EXPECT_EQ(line["holds"], (std::vector<bool>{true, false, false})) << line.dump();
+  EXPECT_EQ(line["holds"], (std::vector<bool>{true, true, false, false})) << line.dump();
   EXPECT_GT(r.metrics["osc"]["s0.3/paper_dob"]["current_saturation_fraction"].get<double>(), 0.0);
   Scenario table = load_scenario(examples + "osc_table.yaml");
   keep(table, {"paper_dob"});
   const ScenarioRun t = run_scenario(table, dir.file("table"));
-  const Log& a = r.runs[2].log;
+  const Log& a = r.runs[0].log;
   const Log& b = t.runs[0].log;
   ASSERT_EQ(a.columns(), b.columns());
   for (int k = 0; k < static_cast<int>(a.columns()); ++k) {
