@@ -33,8 +33,7 @@ Eigen::Vector3d collision_centre(const model::RobotDescription& r, const std::st
 wholebody::TvrParams planner_params(const BalanceSetup& s, double gravity) {
   wholebody::TvrParams p = s.tvr;
   p.gravity_m_s2 = gravity;
-  const wholebody::PhaseMachineParams& ph = s.phases;
-  p.step_period_s = ph.double_support_s + ph.lift_s + ph.swing_s + ph.landing_s;
+  p.step_period_s = s.phases.step_period_s();
   return p;
 }
 

@@ -72,8 +72,7 @@ void BalanceController::Impl::plan_weight_shift(const wholebody::PhaseInfo& ph) 
   const Eigen::Vector3d swing_foot = foot_point(ph.swing_side), stance_foot = foot_point(wholebody::other(ph.swing_side));
   shift_start = data.com.head<2>();
   shift_end = 0.5 * (swing_foot + stance_foot).head<2>() + setup.weight_shift.offset_m;
-  const wholebody::PhaseMachineParams& p = setup.phases;
-  const double step_s = p.double_support_s + p.lift_s + p.swing_s + p.landing_s;
+  const double step_s = tvr.params().step_period_s;
   const double w = tvr.omega_per_s();
   const double half_width = 0.5 * std::abs(swing_foot.y() - stance_foot.y());
   const double speed = setup.weight_shift.speed_scale * half_width * w * std::tanh(0.5 * w * step_s);

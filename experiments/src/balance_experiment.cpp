@@ -132,12 +132,15 @@ void winding_metrics(const VariantResult& r, Cooling cooling, const std::vector<
 // When the uncooled windings (any of `joints`) first passed `above_C`, null if never; and
 // Fig. 7d's contrast over the run: holds when the cooled peak stayed below `below_C` and
 // the uncooled one passed `above_C` (the simulated temperatures decide it exactly).
+// Nothing for a run without uncooled windings logged (ideal joints).
 void thermal_contrast(const VariantResult& r, const BalanceParams& p, nlohmann::json& m) {
   if (!p.uncooled_above_C) return;
   double first = std::numeric_limits<double>::infinity();
+  bool logged = false;
   for (const auto& joint : p.winding_joints) {
     const int c = r.log.find(joint + ".T_winding_uncooled");
     if (c < 0) continue;
+    logged = true;
     const auto& T = r.log.column(c);
     for (std::size_t k = 0; k < T.size(); ++k)
       if (T[k] > *p.uncooled_above_C) {
@@ -145,6 +148,7 @@ void thermal_contrast(const VariantResult& r, const BalanceParams& p, nlohmann::
         break;
       }
   }
+  if (!logged) return;
   m["uncooled_passes_s"] = std::isfinite(first) ? nlohmann::json(first) : nlohmann::json(nullptr);
   const nlohmann::json& peaks = m.value("peak_winding_C", nlohmann::json::object());
   if (!p.cooled_below_C || !peaks.contains("cooled") || !peaks.contains("uncooled")) return;
@@ -380,6 +384,18 @@ ExperimentResult balance(const ExperimentSetup& e, const std::vector<VariantResu
 
 namespace {
 
+// Fig. 7d's thresholds come together and judge named windings (before the run: a
+// mistake there is found before minutes of stepping).
+void check_winding_thresholds(const ExperimentSetup& e) {
+  const bool below = e.number.count("winding_cooled_below_C"), above = e.number.count("winding_uncooled_above_C");
+  if (!below && !above) return;
+  const std::string at = e.where.at(below ? "winding_cooled_below_C" : "winding_uncooled_above_C");
+  if (below != above)
+    throw InputError(at + ": experiment " + e.type + ": give winding_cooled_below_C and winding_uncooled_above_C together (Fig. 7d's contrast)");
+  if (!e.names.count("winding_joints"))
+    throw InputError(at + ": experiment " + e.type + ": winding_cooled_below_C needs winding_joints (whose windings are judged)");
+}
+
 // Its keys: the shared ones (balance_runs.hpp) and its own.
 std::map<std::string, KeyKind> balance_experiment_keys() {
   std::map<std::string, KeyKind> k = detail::balance_keys();
@@ -406,6 +422,7 @@ class BalanceExperiment : public detail::FunctionExperiment {
                            }) {}
   void record(const ExperimentSetup& e, const RecordContext& c, std::map<std::string, double>& truth) const override {
     Experiment::record(e, c, truth);
+    check_winding_thresholds(e);
     const auto scales = e.numbers.find("replay_scales");
     if (scales == e.numbers.end()) return;
     const std::string at = e.where.count("replay_scales") ? e.where.at("replay_scales") : e.file;

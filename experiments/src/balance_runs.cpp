@@ -70,8 +70,10 @@ BalanceParams read_balance_params(const ExperimentSetup& e, const std::vector<Va
   BalanceParams p{text_or(e, "leg", ""), number_or(e, "start_s", 4.0), number_or(e, "fall_height_m", 0.6), number_or(e, "fall_tilt_rad", 0.5),
                   prefix, {}, std::nullopt, std::nullopt, std::nullopt, &e};
   if (const auto it = e.names.find("winding_joints"); it != e.names.end()) p.winding_joints = it->second;
-  if (e.number.count("winding_cooled_below_C")) p.cooled_below_C = e.number.at("winding_cooled_below_C");
-  if (e.number.count("winding_uncooled_above_C")) p.uncooled_above_C = e.number.at("winding_uncooled_above_C");
+  if (e.number.count("winding_cooled_below_C") && e.number.count("winding_uncooled_above_C")) {  // checked before the run
+    p.cooled_below_C = e.number.at("winding_cooled_below_C");
+    p.uncooled_above_C = e.number.at("winding_uncooled_above_C");
+  }
   if (e.number.count("swing_speed_max_m_s") != e.number.count("swing_accel_max_m_s2"))
     throw InputError(e.file + ": experiment " + e.type + ": give swing_speed_max_m_s and swing_accel_max_m_s2 together (the swing foot's reach)");
   if (e.number.count("swing_speed_max_m_s")) {
@@ -147,10 +149,10 @@ nlohmann::json push_lipm(const BalanceRun& run, const VariantFacts& v, const Pus
   const auto mass = run.r.truth.find("total_mass_kg");
   const auto* balance = v.bus_controller<control::BalanceSetup>();
   if (!balance || mass == run.r.truth.end()) return nullptr;
-  nlohmann::json out = push_capture(run.r, *balance, p.end_s, file, reach);
+  nlohmann::json out = push_capture(run.r, *balance, v.gravity_m_s2, p.end_s, file, reach);
   if (out.is_null()) out = {{"capturable", nullptr}};  // the run ended before, or not stepping
   const double force = p.peak_N * p.direction.head<2>().norm();
-  out["push_cp_shift_m"] = wholebody::push_capture_point_shift(force, p.end_s - p.start_s, mass->second, pendulum_omega(*balance));
+  out["push_cp_shift_m"] = wholebody::push_capture_point_shift(force, p.end_s - p.start_s, mass->second, pendulum_omega(*balance, v.gravity_m_s2));
   return out;
 }
 

@@ -51,11 +51,7 @@ nlohmann::json pair(const CaptureInterval& c) { return nlohmann::json::array({c.
 
 }  // namespace
 
-double pendulum_omega(const control::BalanceSetup& b) { return std::sqrt(b.tvr.gravity_m_s2 / b.tvr.com_height_m); }
-
-double step_period_s(const control::BalanceSetup& b) {
-  return b.phases.double_support_s + b.phases.lift_s + b.phases.swing_s + b.phases.landing_s;
-}
+double pendulum_omega(const control::BalanceSetup& b, double gravity_m_s2) { return std::sqrt(gravity_m_s2 / b.tvr.com_height_m); }
 
 // The footholds the swing foot can land on (relative to the stance foot), per axis, from
 // its logged position and velocity (the difference to the sample before) at sample k;
@@ -82,15 +78,15 @@ bool within_reach(StepRange& step, const wholebody::Reach& reach) {
   return step.min_m <= step.max_m;
 }
 
-nlohmann::json push_capture(const VariantResult& r, const control::BalanceSetup& b, double end_s, const std::string& file,
-                            const std::optional<SwingLimits>& limits) {
+nlohmann::json push_capture(const VariantResult& r, const control::BalanceSetup& b, double gravity_m_s2, double end_s,
+                            const std::string& file, const std::optional<SwingLimits>& limits) {
   const auto& t = r.log.time();
   const auto k = static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), end_s - 1e-9) - t.begin());
   if (k >= t.size()) return nullptr;
   const auto phase = static_cast<Phase>(std::lround(signal(r, b.name + ".phase", file)[k]));
   if (phase != Phase::DoubleSupport && phase != Phase::Lift && phase != Phase::Swing && phase != Phase::Landing) return nullptr;
   const PendingStep p = pending_step(r, b, k, phase, file);
-  const double w = pendulum_omega(b), T = step_period_s(b);
+  const double w = pendulum_omega(b, gravity_m_s2), T = b.phases.step_period_s();
   const double ex = signal(r, b.name + ".com_x", file)[k] + signal(r, b.name + ".com_vx", file)[k] / w - p.stance_x;
   const double ey = signal(r, b.name + ".com_y", file)[k] + signal(r, b.name + ".com_vy", file)[k] / w - p.stance_y;
   // The TVR's limits: forward the same every step; sideways towards the swinging side.

@@ -31,11 +31,11 @@ struct SwingLimits {
 // footholds the swing foot can still land on, relative to the stance foot, while the
 // step is free) and reachable (some foothold within the step limits is; false: not
 // capturable). Throws InputError (naming file) for a missing signal.
-nlohmann::json push_capture(const sim::VariantResult& r, const control::BalanceSetup& b, double end_s, const std::string& file,
-                            const std::optional<SwingLimits>& reach = std::nullopt);
+// The pendulum's ω uses gravity_m_s2, the scenario's (as the controller's planner does).
+nlohmann::json push_capture(const sim::VariantResult& r, const control::BalanceSetup& b, double gravity_m_s2, double end_s,
+                            const std::string& file, const std::optional<SwingLimits>& reach = std::nullopt);
 
-// The pendulum's ω = √(g / h) and step period of a balance setup.
-double pendulum_omega(const control::BalanceSetup& b);
-double step_period_s(const control::BalanceSetup& b);
+// The pendulum's ω = √(g / h) of a balance setup under gravity g.
+double pendulum_omega(const control::BalanceSetup& b, double gravity_m_s2);
 
 }  // namespace dmbd::experiments::detail

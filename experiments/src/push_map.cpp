@@ -140,14 +140,14 @@ nlohmann::json boundary(const Group& g, const BalanceParams& p, const std::vecto
   const auto* b = g.reference_facts->bus_controller<control::BalanceSetup>();
   const auto mass = g.reference->r.truth.find("total_mass_kg");
   const double origin = g.pushes.front().origin_s, tau = g.pushes.front().duration_s;
-  const double shift = wholebody::push_capture_point_shift(1.0, tau, mass->second, detail::pendulum_omega(*b));
+  const double shift = wholebody::push_capture_point_shift(1.0, tau, mass->second, detail::pendulum_omega(*b, g.reference_facts->gravity_m_s2));
   nlohmann::json out = {{"reference", g.reference->r.name}, {"trigger_time_s", origin}, {"duration_s", tau}};
   std::vector<double> phases;
   std::map<double, std::vector<double>> by_dir;
-  const auto n = static_cast<int>(std::floor(detail::step_period_s(*b) / kBoundaryStepS + 1e-9));
+  const auto n = static_cast<int>(std::floor(b->phases.step_period_s() / kBoundaryStepS + 1e-9));
   for (int k = 0; k <= n; ++k) {
     const double ph = k * kBoundaryStepS;
-    const nlohmann::json v = detail::push_capture(g.reference->r, *b, origin + ph + tau, file, p.reach);
+    const nlohmann::json v = detail::push_capture(g.reference->r, *b, g.reference_facts->gravity_m_s2, origin + ph + tau, file, p.reach);
     phases.push_back(ph);
     for (double deg : dirs) {
       const Eigen::Vector2d d(std::cos(deg * M_PI / 180.0), std::sin(deg * M_PI / 180.0));

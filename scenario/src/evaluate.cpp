@@ -47,7 +47,7 @@ void add_plots(const Scenario& s, const std::vector<VariantResult>& runs, experi
 }  // namespace
 
 experiments::VariantFacts variant_facts(const VariantSetup& v) {
-  return {v.name, v.duration_s, v.forces, v.cooling, v.bus_controllers};
+  return {v.name, v.duration_s, v.forces, v.cooling, v.bus_controllers, v.robot.gravity_m_s2};
 }
 
 experiments::ExperimentResult evaluate_experiment(const Scenario& s, const std::vector<VariantResult>& runs) {

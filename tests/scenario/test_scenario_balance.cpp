@@ -105,7 +105,10 @@ TEST(BalanceScenario, TheDampingReplayKeysAreChecked) {
   }
   for (const auto& [keys, what] : {std::pair<std::string, std::string>{"  winding_joints: [l_knee]\n  replay_scales: [0.1, -1]\n",
                                                                        "expected factors >= 0, got -1"},
-                                   {"  replay_scales: [0.5]\n", "expected winding_joints too"}}) {
+                                   {"  replay_scales: [0.5]\n", "expected winding_joints too"},
+                                   {"  winding_joints: [l_knee]\n  winding_cooled_below_C: 60\n",
+                                    "give winding_cooled_below_C and winding_uncooled_above_C together"},
+                                   {"  winding_cooled_below_C: 60\n  winding_uncooled_above_C: 130\n", "needs winding_joints"}}) {
     dmbd::sim::test::write_text(path, head + keys);
     const Scenario s = load_scenario(path);
     try {

@@ -70,6 +70,7 @@ struct VariantFacts {
   sim::Cooling cooling = sim::Cooling::On;                 // which thermal models were logged
   // The bus controllers' options, in list order (each a type's own struct).
   std::vector<std::shared_ptr<const control::BusControllerOptions>> bus_controllers;
+  double gravity_m_s2 = 9.81;                              // the scenario's robot.gravity
   // The options of the first bus controller whose options are a T, or null.
   template <class T>
   const T* bus_controller() const {

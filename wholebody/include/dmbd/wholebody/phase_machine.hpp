@@ -73,6 +73,8 @@ struct PhaseMachineParams {
   Side first_swing_side = Side::Left;
   ContactValues stance{550.0, 1.0, 0.01, 1000.0};
   ContactValues swing{0.0, 5.0, 0.5, 0.001};
+  // One step, touch-down to touch-down: double support, lift, swing and landing.
+  double step_period_s() const { return double_support_s + lift_s + swing_s + landing_s; }
 };
 
 struct FootContact {
