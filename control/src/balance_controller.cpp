@@ -244,8 +244,9 @@ void BalanceController::tick(const double* u, double* y) {
   Impl& m = *impl_;
   m.read_state(u);
   const double dt = m.tick == 0 ? 0.0 : 1.0 / m.setup.rate_hz;
-  const wholebody::PhaseInfo& ph =
-      m.phases.update(dt, m.joint_v[m.ankle[0]], m.joint_v[m.ankle[1]]);
+  const Side swinging = m.phases.info().swing_side;  // the side that swings, if this tick is in a swing
+  const double swing_height = m.foot_point(swinging).z() - m.foot_point(wholebody::other(swinging)).z();
+  const wholebody::PhaseInfo& ph = m.phases.update(dt, m.joint_v[m.ankle[0]], m.joint_v[m.ankle[1]], swing_height);
   m.on_events(ph);
   m.fallen = m.fallen || m.tilt > m.setup.fall_tilt_rad;
   if (m.fallen) {

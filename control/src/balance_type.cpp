@@ -74,7 +74,7 @@ void read_task_gains(const yaml::Fields& f, const YAML::Node& x, BalanceTaskGain
 
 void read_phases(const yaml::Fields& f, const YAML::Node& x, wholebody::PhaseMachineParams& p) {
   f.keys(x, "balance.phases", {"joint_move_s", "body_lift_s", "weight_shift_s", "double_support_s", "lift_s", "swing_s", "landing_s",
-                               "first_swing", "body_lift_start_force_N", "body_lift_end_force_N"});
+                               "first_swing", "body_lift_start_force_N", "body_lift_end_force_N", "touch_down_height_max_m"});
   auto dur = [&](const char* k, double& d) {
     f.optional(x, k, [&](const YAML::Node& y) { d = f.number_in(y, std::string("balance.phases.") + k, 1e-4, 1e6, "s"); });
   };
@@ -87,6 +87,9 @@ void read_phases(const yaml::Fields& f, const YAML::Node& x, wholebody::PhaseMac
   dur("landing_s", p.landing_s);
   f.optional(x, "body_lift_start_force_N", [&](const YAML::Node& y) { p.body_lift_start_force_N = f.number_in(y, "balance.phases.body_lift_start_force_N", 0.0, 1e5, "N"); });
   f.optional(x, "body_lift_end_force_N", [&](const YAML::Node& y) { p.body_lift_end_force_N = f.number_in(y, "balance.phases.body_lift_end_force_N", 0.0, 1e5, "N"); });
+  f.optional(x, "touch_down_height_max_m", [&](const YAML::Node& y) {
+    p.touch_down_height_max_m = f.number_in(y, "balance.phases.touch_down_height_max_m", 1e-4, 1.0, "m");
+  });
   f.optional(x, "first_swing", [&](const YAML::Node& y) {
     const std::string s = f.text(y, "balance.phases.first_swing");
     if (s == "left") p.first_swing_side = wholebody::Side::Left;

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -70,7 +71,7 @@ TEST(BalanceOptionsMap, TheNewKeysAreReadIntoTheSetup) {
                                  "  swing_foot_level: true\n"
                                  "  weight_shift: {offset_m: [0.25, -0.5], speed_scale: 0.75}\n"
                                  "  tvr_point: {torso_offset_m: [0.125, -0.0625]}\n"
-                                 "  phases: {weight_shift_s: 0.25}\n"
+                                 "  phases: {weight_shift_s: 0.25, touch_down_height_max_m: 0.015}\n"
                                  "  swing: {horizontal_fraction: 0.625}\n"
                                  "  qp: {w_qdd_base: 12.5}\n");
   const Scenario s = load_scenario(path);
@@ -95,6 +96,7 @@ TEST(BalanceOptionsMap, TheNewKeysAreReadIntoTheSetup) {
   EXPECT_EQ(b.tvr_point, TvrPoint::Torso);
   EXPECT_EQ(b.tvr_torso_offset_m, Eigen::Vector2d(0.125, -0.0625));
   EXPECT_EQ(b.phases.weight_shift_s, 0.25);
+  EXPECT_EQ(b.phases.touch_down_height_max_m, 0.015);
   EXPECT_EQ(b.swing.horizontal_fraction, 0.625);
   EXPECT_EQ(b.qp.w_qdd_base, 12.5);
 
@@ -112,6 +114,7 @@ TEST(BalanceOptionsMap, TheNewKeysAreReadIntoTheSetup) {
   EXPECT_EQ(d.weight_shift.offset_m, Eigen::Vector2d::Zero());
   EXPECT_EQ(d.weight_shift.speed_scale, 1.0);
   EXPECT_EQ(d.phases.weight_shift_s, 0.0);
+  EXPECT_EQ(d.phases.touch_down_height_max_m, std::numeric_limits<double>::infinity());
   EXPECT_EQ(d.swing.horizontal_fraction, defaults.swing.horizontal_fraction);
   EXPECT_EQ(d.qp.w_qdd_base, defaults.qp.w_qdd_base);
   EXPECT_EQ(d.tvr.lateral_width_m, 0.0);
@@ -144,6 +147,7 @@ TEST(BalanceOptionsMap, BadValuesAreLocated) {
       {"  swing: {horizontal_fraction: 1.5}", "1.5", "balance.swing.horizontal_fraction: expected a number from 0.05 to 1, got 1.5"},
       {"  qp: {w_qdd_base: 0}", "0}", "balance.qp.w_qdd_base: expected a number from 1e-09 to 1e+12, got 0"},
       {"  phases: {weight_shift_s: -1}", "-1", "balance.phases.weight_shift_s: expected a number from 0 to 1e+06 s, got -1 s"},
+      {"  phases: {touch_down_height_max_m: 0}", "0}", "balance.phases.touch_down_height_max_m: expected a number from 0.0001 to 1 m, got 0 m"},
   };
   dmbd::sim::test::TempDir dir;
   const std::string path = dir.file("b.yaml");

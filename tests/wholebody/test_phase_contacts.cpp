@@ -230,6 +230,8 @@ TEST(PhaseContacts, RejectsParametersThatCannotBeUsed) {
   rejects([](PhaseMachineParams& p) { p.swing.slack_weight = 0.0; }, "swing.slack_weight");
   rejects([](PhaseMachineParams& p) { p.touch_down_ankle_velocity_rad_s = std::nan(""); },
           "touch_down_ankle_velocity_rad_s");
+  rejects([](PhaseMachineParams& p) { p.touch_down_height_max_m = 0.0; }, "touch_down_height_max_m");
+  rejects([](PhaseMachineParams& p) { p.touch_down_height_max_m = std::nan(""); }, "touch_down_height_max_m");
   rejects([](PhaseMachineParams& p) { p.weight_shift_s = -0.1; }, "weight_shift_s");
   rejects([](PhaseMachineParams& p) { p.weight_shift_s = std::nan(""); }, "weight_shift_s");
   rejects([](PhaseMachineParams& p) { p.weight_shift_s = std::numeric_limits<double>::infinity(); }, "weight_shift_s");

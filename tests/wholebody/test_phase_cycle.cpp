@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -217,6 +218,31 @@ TEST(PhaseMachine, EarlyTouchDownWhenTheSwingAnkleDropsLaterInTheSwing) {
   EXPECT_TRUE(trace[segs[5].first_tick].events.touch_down_early);
   EXPECT_TRUE(trace[segs[9].first_tick].events.touch_down_early);
   EXPECT_EQ(trace.back().touch_downs, 2);
+}
+
+// The height gate (touch_down_height_max_m, issue 27): the ankle trigger from the swing's
+// 0.250 s on, the foot 0.05 m up until 0.300 s and 0.01 m after; with a 0.015 m gate the
+// swing ends on the first tick down there (300 ticks), without one at 0.250 s.
+TEST(PhaseMachine, TheHeightGateHoldsTheTriggerWhileTheSwingFootIsUp) {
+  const auto run_gated = [](double gate_m, double height_up_m) {
+    PhaseMachineParams p;
+    p.touch_down_height_max_m = gate_m;
+    PhaseMachine m(p);
+    std::vector<PhaseInfo> trace;
+    for (int k = 0; k < kStartUpTicks + 10 + 30 + 330 + 10; ++k) {
+      const PhaseInfo& b = m.info();
+      const bool swinging = b.phase == Phase::Swing;
+      const double v = swinging && b.time_in_phase_s > 0.2485 ? -3.0 : 0.0;
+      const double h = swinging && b.time_in_phase_s < 0.2985 ? height_up_m : 0.01;
+      trace.push_back(m.update(kDt, v, 0.0, h));
+    }
+    return lengths(segments(trace));
+  };
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(run_gated(0.015, 0.05), (std::vector<int>{2000, 2000, 10, 30, 300, 10, 10, 20}));
+  EXPECT_EQ(run_gated(inf, 0.05), (std::vector<int>{2000, 2000, 10, 30, 250, 10, 10, 30, 40}));
+  EXPECT_EQ(run_gated(0.015, std::nan("")), (std::vector<int>{2000, 2000, 10, 30, 300, 10, 10, 20}));  // NaN only while up
+  EXPECT_EQ(run_gated(0.06, 0.05), (std::vector<int>{2000, 2000, 10, 30, 250, 10, 10, 30, 40}));  // 0.05 m passes a 0.06 m gate
 }
 
 TEST(PhaseMachine, OnlyTheSwingAnkleStrictlyBelowTheThresholdTriggers) {

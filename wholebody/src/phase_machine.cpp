@@ -59,6 +59,8 @@ void validate(const PhaseMachineParams& p) {
           p.weight_shift_s);
   require(std::isfinite(p.touch_down_ankle_velocity_rad_s), "touch_down_ankle_velocity_rad_s", "finite",
           p.touch_down_ankle_velocity_rad_s);
+  require(p.touch_down_height_max_m > 0.0, "touch_down_height_max_m", "a positive height (infinite: no gate)",
+          p.touch_down_height_max_m);
   require_values("stance", p.stance);
   require_values("swing", p.swing);
 }
@@ -114,7 +116,7 @@ void PhaseMachine::reset() {
 }
 
 const PhaseInfo& PhaseMachine::update(double dt_s, double left_ankle_velocity_rad_s,
-                                      double right_ankle_velocity_rad_s) {
+                                      double right_ankle_velocity_rad_s, double swing_foot_height_m) {
   if (!(std::isfinite(dt_s) && dt_s >= 0.0))
     throw InputError("phase machine: the tick's dt_s must be 0 s or more (got " + number(dt_s) + ")");
   info_.events = PhaseEvents();
@@ -125,7 +127,7 @@ const PhaseInfo& PhaseMachine::update(double dt_s, double left_ankle_velocity_ra
   }
   info_.time_s += dt_s;
   info_.time_in_phase_s += dt_s;
-  if (touch_down_triggered(left_ankle_velocity_rad_s, right_ankle_velocity_rad_s)) {
+  if (touch_down_triggered(left_ankle_velocity_rad_s, right_ankle_velocity_rad_s, swing_foot_height_m)) {
     end_swing(true);
   } else if (info_.time_in_phase_s >= info_.phase_duration_s - kTimeTolerance_s) {
     next_phase();
@@ -138,8 +140,10 @@ const PhaseInfo& PhaseMachine::update(double dt_s, double left_ankle_velocity_ra
   return info_;
 }
 
-bool PhaseMachine::touch_down_triggered(double left_ankle_velocity_rad_s, double right_ankle_velocity_rad_s) const {
+bool PhaseMachine::touch_down_triggered(double left_ankle_velocity_rad_s, double right_ankle_velocity_rad_s,
+                                        double swing_foot_height_m) const {
   if (info_.phase != Phase::Swing || !mid_swing_reached_) return false;  // armed after the mid-swing tick
+  if (!(swing_foot_height_m <= params_.touch_down_height_max_m)) return false;  // still in the air (NaN: unknown, not down)
   const double v = info_.swing_side == Side::Left ? left_ankle_velocity_rad_s : right_ankle_velocity_rad_s;
   return v < params_.touch_down_ankle_velocity_rad_s;
 }

@@ -20,7 +20,12 @@
 //
 // Touch-down: the swing ends when its time is up, or earlier when the swing ankle's joint
 // velocity is below −2.8 rad/s (the facts' sign convention), but only on a tick after the
-// mid-swing tick (the first with t ≥ T/2): never in the first half.
+// mid-swing tick (the first with t ≥ T/2): never in the first half. With
+// touch_down_height_max_m set (not the authors'; issue 27), the trigger counts only while
+// the swing foot is at most that high above the ground (the caller's estimate, from the
+// joint encoders' kinematics): a foot reversing fast in the air turns its ankle as fast as
+// one striking the ground, and a swing declared over 5 cm up drops the robot onto a foot
+// still moving (the push map's falls).
 //
 // Ticks and rounding: update() is called once per control tick. The first call is the
 // machine's first tick, at time 0 (its dt_s is not added); each later call advances the
@@ -33,6 +38,7 @@
 //
 // Allocation-free: update() only writes into the PhaseInfo the machine holds.
 #include <array>
+#include <limits>
 
 namespace dmbd::wholebody {
 
@@ -70,6 +76,9 @@ struct PhaseMachineParams {
   double landing_s = 0.01;  // the paper's 0.01 s (the authors' code: 0.03 s)
   // The swing ends early when the swing ankle's joint velocity is below this.
   double touch_down_ankle_velocity_rad_s = -2.8;
+  // ... and only while the swing foot is at most this high above the ground (infinite:
+  // at any height, the authors' rule).
+  double touch_down_height_max_m = std::numeric_limits<double>::infinity();
   Side first_swing_side = Side::Left;
   ContactValues stance{550.0, 1.0, 0.01, 1000.0};
   ContactValues swing{0.0, 5.0, 0.5, 0.001};
@@ -116,9 +125,11 @@ class PhaseMachine {
   explicit PhaseMachine(const PhaseMachineParams& params = PhaseMachineParams());
 
   // One control tick: advances by dt_s (not on the first call), checks the touch-down
-  // trigger with the ankles' joint velocities and returns the phase of this tick.
-  // Throws InputError for a negative or non-finite dt_s.
-  const PhaseInfo& update(double dt_s, double left_ankle_velocity_rad_s, double right_ankle_velocity_rad_s);
+  // trigger with the ankles' joint velocities and the swing foot's height above the
+  // ground (0 for a caller that does not know it: the height gate then always passes),
+  // and returns the phase of this tick. Throws InputError for a negative or non-finite dt_s.
+  const PhaseInfo& update(double dt_s, double left_ankle_velocity_rad_s, double right_ankle_velocity_rad_s,
+                          double swing_foot_height_m = 0.0);
 
   const PhaseInfo& info() const { return info_; }  // the last tick's (before any: the first's)
   const PhaseMachineParams& params() const { return params_; }
@@ -126,7 +137,8 @@ class PhaseMachine {
   void reset();
 
  private:
-  bool touch_down_triggered(double left_ankle_velocity_rad_s, double right_ankle_velocity_rad_s) const;
+  bool touch_down_triggered(double left_ankle_velocity_rad_s, double right_ankle_velocity_rad_s,
+                            double swing_foot_height_m) const;
   void next_phase();
   void enter(Phase p);
   void end_swing(bool early);
