@@ -40,7 +40,12 @@ wholebody::Layout layout_of(const model::RobotDescription& robot, const model::R
 DynamicsModel::DynamicsModel(const model::RobotDescription& robot, const model::DynamicsOptions& options)
     : robot_(std::make_unique<model::RobotDescription>(robot)),
       dynamics_(std::make_unique<model::RobotDynamics>(*robot_, options)),
-      layout_(layout_of(*robot_, *dynamics_)) {}
+      layout_(layout_of(*robot_, *dynamics_)) {
+  for (const wholebody::Joint& j : layout_.joints) {
+    const double armature = robot_->joints[static_cast<size_t>(robot_->joint_index(j.name))].armature;
+    if (armature > 0) armature_.emplace_back(j.v_index, armature);
+  }
+}
 
 int DynamicsModel::add_frame(const wholebody::FrameSpec& frame) {
   const int link = dynamics_->link_index(frame.link);
@@ -56,6 +61,7 @@ void DynamicsModel::update(const Eigen::Ref<const Eigen::VectorXd>& q, const Eig
   data.v = v;
   dynamics_->set_state(q, v);
   dynamics_->mass_matrix(data.A);
+  for (const auto& [index, armature] : armature_) data.A(index, index) += armature;
   dynamics_->coriolis_and_gravity(data.bg);
   dynamics_->gravity(data.g);
   for (size_t k = 0; k < frames_.size(); ++k) {

@@ -151,5 +151,29 @@ TEST(DynamicsModel, AngularMomentumFromTheBaseRowsIsTheSumOverTheLinks) {
   }
 }
 
+// A joint's armature (model::Joint::armature, the plant adds it to the same diagonal) is
+// on its diagonal of the controller's mass matrix: A with 0.55 kg m² on the left ankle
+// and 0.3 on the right knee less A without is exactly those two entries (to 1e-12, the
+// rounding of one addition); the bias and the kinematics are unchanged.
+TEST(DynamicsModel, TheArmatureIsOnItsJointsDiagonal) {
+  model::RobotDescription geared = draco();
+  geared.joints[static_cast<size_t>(geared.joint_index("l_ankle"))].armature = 0.55;
+  geared.joints[static_cast<size_t>(geared.joint_index("r_knee"))].armature = 0.3;
+  DynamicsModel plain(draco(), table(1.3)), with(geared, table(1.3));
+  wholebody::ModelData a = plain.make_data(), b = with.make_data();
+  std::mt19937 rng(5);
+  Eigen::VectorXd q, v;
+  random_state(plain.layout(), rng, q, v);
+  plain.update(q, v, a);
+  with.update(q, v, b);
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(10, 10);
+  const auto& l = plain.layout();
+  expected(l.joints[static_cast<size_t>(l.joint_index("l_ankle"))].v_index, l.joints[static_cast<size_t>(l.joint_index("l_ankle"))].v_index) = 0.55;
+  expected(l.joints[static_cast<size_t>(l.joint_index("r_knee"))].v_index, l.joints[static_cast<size_t>(l.joint_index("r_knee"))].v_index) = 0.3;
+  EXPECT_LT((b.A - a.A - expected).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(b.bg, a.bg);
+  EXPECT_EQ(b.com, a.com);
+}
+
 }  // namespace
 }  // namespace dmbd::control

@@ -219,10 +219,11 @@ TEST(BalanceOptionsMap, AVariantOverridesOnlyTheKeysItGives) {
     EXPECT_EQ(b->tvr.com_height_m, 0.78);
     EXPECT_EQ(b->tvr.kappa, Eigen::Vector2d(-0.25, -0.25));
     EXPECT_EQ(b->tvr.t_prime_s, Eigen::Vector2d(0.38, 0.38));
-    EXPECT_EQ(b->tvr.lateral_width_m, 0.26);
+    EXPECT_EQ(b->tvr.lateral_width_m, 0.34);
     EXPECT_EQ(b->tvr_integral_gain, Eigen::Vector2d(0.1, 0.1));
     EXPECT_EQ(b->swing.mid_height_m, 0.04);
     EXPECT_EQ(b->phases.weight_shift_s, 0.6);
+    EXPECT_EQ(b->phases.touch_down_height_max_m, 0.015);
     EXPECT_EQ(b->qp.w_qdd_base, 10.0);
     EXPECT_EQ(b->qp.w_qdd, 1000.0);
     EXPECT_EQ(b->estimator, BalanceEstimator::MotionCapture);

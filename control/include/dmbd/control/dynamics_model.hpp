@@ -3,8 +3,11 @@
 // it) to the interface whole-body controllers read (wholebody::RobotModel). It lives in
 // sim/, which may use both; wholebody never sees model/ or Simbody.
 // Joint limits come from the URDF (position, effort, velocity; an effort or velocity of
-// 0 in the URDF means none given: infinite here).
+// 0 in the URDF means none given: infinite here). A joint's armature (a geared rotor
+// reflected onto it, model::Joint::armature, as the plant adds it) is on its diagonal of
+// the mass matrix: the controller's model is the plant's.
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "dmbd/model/dynamics.hpp"
@@ -43,6 +46,7 @@ class DynamicsModel : public wholebody::RobotModel {
   std::unique_ptr<model::RobotDynamics> dynamics_;
   wholebody::Layout layout_;
   std::vector<Frame> frames_;
+  std::vector<std::pair<int, double>> armature_;  // (v index, kg m² or kg) of each joint that has one
 };
 
 }  // namespace dmbd::control
