@@ -110,8 +110,16 @@ std::string where_of(const Scenario& s, const ControllerSetup& c) { return c.whe
 }  // namespace
 
 VariantController variant_controller(const Scenario& s, const ControllerSetup& c, double duration_s) {
-  const Lowered l = lowered(c);
   const std::string cwhere = where_of(s, c);
+  Lowered l;
+  try {
+    l = lowered(c);
+  } catch (const diagrams::DiagramError&) {
+    throw;  // located in the diagram file already, one line per problem
+  } catch (InputError& e) {
+    e.prepend(cwhere + ": controller '" + c.name + "': ");  // lowering: the controller's line
+    throw;
+  }
   VariantController vc;
   if (c.scalar == Scalar::Fixed) vc.fixed_point = facts(c, *l.diagram, *l.program, *l.fixed, duration_s);
   ControllerSpec& cs = vc.spec;

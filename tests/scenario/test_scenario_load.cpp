@@ -260,6 +260,19 @@ TEST(SimScenarioLoad, ControllerWithItsDerivativeGainAtZeroRuns) {
   EXPECT_LT(q.back(), 1.06);
 }
 
+// A controller its diagram cannot be lowered for (a discrete diagram at another rate)
+// is one error at the controller's line (before, the lowering's message had no line).
+TEST(SimScenarioLoad, AControllerThatCannotBeLoweredIsLocated) {
+  TempDir dir;
+  write_text(dir.file("discrete.yaml"),
+             "name: discrete\nsample_time: 0.002\ninputs:\n  q_d: {}\n  q_m: {}\noutputs:\n  i: {}\n"
+             "blocks:\n  e: {type: sum, signs: \"+-\"}\nconnections: [q_d -> e.in1, q_m -> e.in2, e -> i]\n");
+  const std::string yaml = replace_line(base_scenario(), "  - name: position", "  - name: position_at_500_hz") ;
+  const std::string with = replace_line(yaml, "    diagram: " + kEncoderController, "    diagram: discrete.yaml");
+  check_error(dir.file("s.yaml"), {"discrete at another rate", with, "- name: position_at_500_hz",
+                                   "controller 'position_at_500_hz': diagram 'discrete' is discrete at 500"});
+}
+
 TEST(SimScenarioLoad, AWidePortBindsElementByElement) {
   TempDir dir;
   write_text(dir.file("pair.yaml"), kPairDiagram);
