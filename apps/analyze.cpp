@@ -107,7 +107,6 @@ void add_margins(json& r, const b::Zpk& z) {
   all = json::array();
   for (const auto& c : m.phase_crossovers) all.push_back({{"freq_hz", c.w_rad_s / kTwoPi}, {"gain_margin_db", c.margin}});
   r["phase_crossovers"] = all;
-  r["bandwidth_hz"] = hz(b::bandwidth(z));
 }
 
 json bode_json(const b::Zpk& z, const std::vector<double>& freq_hz) {
@@ -182,7 +181,9 @@ json analyze(const b::Siso& g, const AnalyzeRequest& req) {
   check_output_path(req.step_png, "--step-plot");
   json r;
   describe(r, g);
-  add_margins(r, g.zpk());
+  r["loop_transfer"] = req.loop;
+  if (req.loop) add_margins(r, g.zpk());
+  r["bandwidth_hz"] = hz(b::bandwidth(g.zpk()));
   if (!req.freq_hz.empty()) r["bode"] = bode_json(g.zpk(), req.freq_hz);
   const bool need_step = req.step.has_value() || !req.step_png.empty();
   if (need_step && !g.realisation()) {
@@ -214,8 +215,10 @@ void write_plots(const b::Siso& g, const json& r, const AnalyzeRequest& req) {
     std::vector<double> f(w.size());
     for (size_t k = 0; k < w.size(); ++k) f[k] = w[k] / kTwoPi;
     std::optional<double> gc, pc;
-    if (!r["gain_crossover_hz"].is_null()) gc = r["gain_crossover_hz"].get<double>();
-    if (!r["phase_crossover_hz"].is_null() && r["phase_crossover_hz"].get<double>() > 0.0)
+    // Crossovers are marked only on a loop transfer (no margins otherwise).
+    if (r.contains("gain_crossover_hz") && !r["gain_crossover_hz"].is_null()) gc = r["gain_crossover_hz"].get<double>();
+    if (r.contains("phase_crossover_hz") && !r["phase_crossover_hz"].is_null() &&
+        r["phase_crossover_hz"].get<double>() > 0.0)
       pc = r["phase_crossover_hz"].get<double>();
     viz::bode_figure(f, bd.mag_db, bd.phase_deg, "Bode: " + title, gc, pc).save_png(req.bode_png);
   }

@@ -26,6 +26,11 @@ struct AnalyzeRequest {
   // approximant; --c2d discretises `undelayed` with the delay itself, exactly.
   double delay_s = 0.0;
   std::optional<blocks::TransferFunction> undelayed;
+  // The transfer is taken as a loop transfer function L (--tf, as python-control's
+  // margin() takes any transfer; a diagram's --loop-at): gain and phase margins and
+  // their crossovers are reported. False for a diagram's --from/--to, a transfer
+  // between two signals (a closed loop, a sensitivity), which is no loop: no margins.
+  bool loop = true;
 };
 
 // A diagram's transfer between two signals (`loop_at` empty) or its loop transfer at

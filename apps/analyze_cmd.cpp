@@ -16,6 +16,7 @@
 #include "dmbd/blocks/sampled.hpp"
 #include "dmbd/diagrams/diagram.hpp"
 #include "dmbd/diagrams/diagram_source.hpp"
+#include "dmbd/diagrams/flat.hpp"
 
 namespace dmbd::apps {
 
@@ -182,6 +183,25 @@ void parse_step(const Args& a, const b::ParameterMap& params, AnalyzeRequest& re
   req.step = std::make_pair(t_end, n);
 }
 
+// The blocks whose law the linear analysis replaces by its linear part: a saturation
+// (the identity) and a pid with output limits (the unsaturated P + I/s + D s/(tau s + 1),
+// its anti-windup left out), with subsystems' blocks under their paths.
+nlohmann::json linearised_blocks(const diagrams::Diagram& d) {
+  const diagrams::FlatDiagram f(d);
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t k = 0; k < f.atomic.size(); ++k) {
+    const diagrams::Block& bl = *f.atomic[k];
+    if (bl.type == diagrams::BlockType::Saturation)
+      out.push_back({{"block", f.atomic_name[k]}, {"type", "saturation"}, {"analysed_as", "the identity (its limits left out)"}});
+    if (bl.pid && bl.pid->output_limits)
+      out.push_back({{"block", f.atomic_name[k]},
+                     {"type", "pid"},
+                     {"analysed_as", std::string("the unsaturated law P + I/s + D s/(tau s + 1) (its output_limits and anti_windup ") +
+                                         diagrams::to_string(bl.pid->anti_windup) + " left out)"}});
+  }
+  return out;
+}
+
 // Where the transfer came from: the diagram and signals, or the expression; parameters.
 void describe_source(nlohmann::json& report, const Args& a, const System& s, const b::ParameterMap& params) {
   if (!s.diagram) {
@@ -191,6 +211,7 @@ void describe_source(nlohmann::json& report, const Args& a, const System& s, con
   }
   report["diagram"] = a.diagram;
   add_interconnection(report, *s.interconnection);
+  report["linearised"] = linearised_blocks(*s.diagram);
   if (a.loop_at.empty()) {
     report["from"] = a.from;
     report["to"] = a.to;
@@ -250,6 +271,7 @@ int AnalyzeCommand::run() {
     throw InputError("--pade applies to a delay exp(-s*T) in a continuous --tf (a diagram's delays: analysis.pade_order)");
   AnalyzeRequest req;
   req.title = s.title;
+  req.loop = !s.diagram || !a.loop_at.empty();
   req.delay_s = s.undelayed ? s.delay_s : 0.0;
   req.undelayed = s.undelayed;
   parse_discretisation(a, params, s, ts, req);

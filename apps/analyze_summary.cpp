@@ -98,6 +98,19 @@ void describe_delays(std::ostringstream& o, const json& r) {
   }
 }
 
+// Margins of a loop transfer; a transfer between two signals is no loop and has none.
+void describe_margins(std::ostream& o, const json& r) {
+  if (!r.value("loop_transfer", true)) {
+    o << "margins: none (a transfer between two signals is not a loop; --loop-at SIGNAL gives the loop's margins)\n";
+    return;
+  }
+  o << "gain margin: " << fmt_opt(r["gain_margin_db"], " dB");
+  if (!r["phase_crossover_hz"].is_null()) o << " at " << fmt_num(r["phase_crossover_hz"].get<double>()) << " Hz";
+  o << "; phase margin: " << fmt_opt(r["phase_margin_deg"], " deg");
+  if (!r["gain_crossover_hz"].is_null()) o << " at " << fmt_num(r["gain_crossover_hz"].get<double>()) << " Hz";
+  o << "  (as a loop transfer function)\n";
+}
+
 const char* stability_text(const std::string& s) {
   return s == "stable" ? "stable" : s == "marginal" ? "marginally stable" : "not stable";
 }
@@ -132,11 +145,11 @@ std::string summary(const json& r) {
     o << "\n";
   }
   o << "bandwidth (-3 dB): " << fmt_opt(r["bandwidth_hz"], " Hz") << "\n";
-  o << "gain margin: " << fmt_opt(r["gain_margin_db"], " dB");
-  if (!r["phase_crossover_hz"].is_null()) o << " at " << fmt_num(r["phase_crossover_hz"].get<double>()) << " Hz";
-  o << "; phase margin: " << fmt_opt(r["phase_margin_deg"], " deg");
-  if (!r["gain_crossover_hz"].is_null()) o << " at " << fmt_num(r["gain_crossover_hz"].get<double>()) << " Hz";
-  o << "  (as a loop transfer function)\n";
+  describe_margins(o, r);
+  if (r.contains("linearised"))
+    for (const json& l : r["linearised"])
+      o << "linearised: " << l["type"].get<std::string>() << " '" << l["block"].get<std::string>() << "' analysed as "
+        << l["analysed_as"].get<std::string>() << "\n";
   if (r.contains("step")) {
     const json& s = r["step"];
     o << "step: rise (10-90 %) " << fmt_opt(s["rise_time_s"], " ms", 1e3) << ", settling (2 %) "

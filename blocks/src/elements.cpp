@@ -23,6 +23,17 @@ TransferFunction pid(double p, double i, double d, double tau_d) {
   return TransferFunction(Polynomial({i, p + i * tau_d, p * tau_d + d}), Polynomial({0.0, 1.0, tau_d}));
 }
 
+TransferFunction pid_terms(double p, std::optional<double> i, std::optional<double> d, double tau_d) {
+  TransferFunction g(p);
+  if (i) g = g + TransferFunction(Polynomial::constant(*i), Polynomial({0.0, 1.0}));
+  if (d) {
+    if (!(tau_d > 0.0) || !std::isfinite(tau_d))
+      throw InputError("PID: a derivative term needs a filter time constant > 0 (D s alone is improper)");
+    g = g + TransferFunction(Polynomial({0.0, *d}), Polynomial({1.0, tau_d}));
+  }
+  return g;
+}
+
 TransferFunction butterworth_lowpass(int order, double cutoff_rad_s) {
   if (order < 1 || order > 20) throw InputError("Butterworth order must be between 1 and 20, got " + std::to_string(order));
   if (!(cutoff_rad_s > 0.0) || !std::isfinite(cutoff_rad_s)) throw InputError("Butterworth cutoff must be > 0");

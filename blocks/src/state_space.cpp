@@ -8,6 +8,7 @@
 #include <string>
 
 #include "dmbd/blocks/error.hpp"
+#include "tolerance.hpp"
 
 namespace dmbd::blocks {
 
@@ -215,6 +216,7 @@ Eigen::MatrixXcd StateSpace::evaluate(Complex x) const {
 }
 
 StateSpace StateSpace::minimal(double tol) const {
+  require_tolerance(tol, "minimal");
   if (num_states() == 0) return *this;
   const StateSpace bal = balanced();
   const Matrix qc = krylov_basis(bal.a_, bal.b_, tol);

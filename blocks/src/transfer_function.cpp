@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "dmbd/blocks/error.hpp"
+#include "tolerance.hpp"
 
 namespace dmbd::blocks {
 
@@ -12,6 +14,13 @@ void require_same_ts(double a, double b, const char* what) {
   if (a != b)
     throw InputError(std::string(what) + ": cannot combine systems with different sample times (" +
                      std::to_string(a) + " s and " + std::to_string(b) + " s)");
+}
+
+void require_tolerance(double tol, const char* what) {
+  if (tol >= 0.0 && std::isfinite(tol)) return;
+  char value[32];
+  std::snprintf(value, sizeof value, "%g", tol);
+  throw InputError(std::string(what) + ": the tolerance 'tol' must be a finite number >= 0, got " + value);
 }
 
 TransferFunction::TransferFunction(Polynomial num, Polynomial den, double ts) : ts_(ts) {
@@ -74,6 +83,7 @@ bool TransferFunction::is_stable() const {
 }
 
 TransferFunction TransferFunction::minreal(double tol) const {
+  require_tolerance(tol, "minreal");
   std::vector<Complex> z = zeros(), p = poles();
   std::vector<bool> pz(z.size(), false), pp(p.size(), false);
   bool any = false;

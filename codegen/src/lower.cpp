@@ -11,6 +11,8 @@
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/codegen/loop_program.hpp"
 #include "dmbd/diagrams/flat.hpp"
+#include "lower_parts.hpp"
+#include "pid_lowering.hpp"
 #include "sections.hpp"
 
 namespace dmbd::codegen {
@@ -33,6 +35,8 @@ std::string fmt_coeff(double v) {
   return buf;
 }
 
+}  // namespace
+
 // Sections of a continuous transfer function discretised by `method`: poles (and for
 // Tustin / backward Euler the zeros) mapped exactly from the continuous ones, better
 // conditioned than the roots of the discrete polynomials; the gain matched at a point
@@ -42,7 +46,11 @@ std::vector<Section> discretised_sections(const b::TransferFunction& g, double t
   const b::TransferFunction gd = b::c2d(g, ts, method);
   std::vector<Complex> poles, zeros;
   for (const Complex& p : g.poles()) poles.push_back(b::c2d_pole(p, ts, method));
-  if (method == b::C2dMethod::Zoh) {
+  if (g.num().is_zero()) {
+    // A numerator that a parameter at 0 made zero (D_q*s/(tau*s + 1) at D_q = 0): no
+    // zeros at all, gain 0; the poles keep their states (the program's shape does not
+    // depend on a parameter's value).
+  } else if (method == b::C2dMethod::Zoh) {
     zeros = gd.zeros();
   } else {
     for (const Complex& z : g.zeros()) zeros.push_back(b::c2d_pole(z, ts, method));
@@ -71,9 +79,11 @@ std::vector<Section> discretised_sections(const b::TransferFunction& g, double t
   Complex prod(1.0);
   for (const Complex& z : zeros) prod *= z0 - z;
   for (const Complex& p : poles) prod /= z0 - p;
-  const double gain = (gd.evaluate(z0) / prod).real();
+  const double gain = g.num().is_zero() ? 0.0 : (gd.evaluate(z0) / prod).real();
   return sections_from_roots(zeros, poles, gain);
 }
+
+namespace {
 
 // A continuous pole or zero above the Nyquist frequency has no discrete counterpart at
 // this rate: the discretisation folds it (Tustin maps it near z = -1, ZOH aliases it),
@@ -96,25 +106,18 @@ std::optional<std::string> above_nyquist(const b::TransferFunction& g, double ts
   return above_nyquist(roots, ts, path);
 }
 
-struct Builder {
-  LoopProgram p;
-  int new_slot(const std::string& name, SlotKind kind, const std::string& origin, const std::string& unit = "") {
-    std::string id = identifier(name);
-    std::string unique = id;
-    for (int k = 2; taken.count(unique); ++k) unique = id + "_" + std::to_string(k);
-    taken.insert(unique);
-    p.slots.push_back({unique, kind, origin, unit});
-    return static_cast<int>(p.slots.size()) - 1;
-  }
-  std::set<std::string> taken;
-};
+}  // namespace
 
-struct BlockCode {
-  std::vector<Op> out, upd;
-  std::vector<bool> feedthrough;  // per input port
-};
+int Builder::new_slot(const std::string& name, SlotKind kind, const std::string& origin, const std::string& unit) {
+  std::string id = identifier(name);
+  std::string unique = id;
+  for (int k = 2; taken.count(unique); ++k) unique = id + "_" + std::to_string(k);
+  taken.insert(unique);
+  p.slots.push_back({unique, kind, origin, unit});
+  return static_cast<int>(p.slots.size()) - 1;
+}
 
-void op(std::vector<Op>& v, OpKind k, int dst, int a, double c, int block, const std::string& note = "") {
+void op(std::vector<Op>& v, OpKind k, int dst, int a, double c, int block, const std::string& note) {
   Op o;
   o.kind = k;
   o.dst = dst;
@@ -182,6 +185,8 @@ std::string describe(const std::vector<Section>& secs, b::C2dMethod m, bool disc
   if (!discrete_source) r += std::string(", ") + b::to_string(m);
   return r;
 }
+
+namespace {
 
 // Drop the slots that no operation touches (the per-block states of blocks that were
 // merged into a state-space group) and renumber the rest.
@@ -357,6 +362,10 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
         break;
       }
       default: {  // tf, pd, pid, lowpass, integrator
+        if (bl.pid && bl.pid->output_limits) {  // its anti-windup needs its terms apart
+          info.realisation = lower_limited_pid(bld, c, *bl.pid, ts, method, in[0][0], out[0][0], i, path);
+          break;
+        }
         if (auto w = above_nyquist(*bl.tf, ts, path)) p.warnings.push_back(*w);
         const auto secs = discretised_sections(*bl.tf, ts, method);
         cascade(bld, c, secs, in[0][0], out[0][0], i, path);
@@ -418,10 +427,11 @@ LoopProgram lower(const diagrams::Diagram& d, const LowerOptions& opt) {
     for (int i : c) names += (names.empty() ? "" : ", ") + f.atomic_name[static_cast<size_t>(i)];
     for (int i : c) {
       const diagrams::Block& bl = *f.atomic[static_cast<size_t>(i)];
-      if (bl.type == diagrams::BlockType::Saturation || bl.type == diagrams::BlockType::Delay)
+      const bool limited = bl.pid && bl.pid->output_limits;
+      if (bl.type == diagrams::BlockType::Saturation || bl.type == diagrams::BlockType::Delay || limited)
         throw InputError("algebraic loop after discretisation through " + names + ": the " + diagrams::to_string(bl.type) +
-                         " block '" + f.atomic_name[static_cast<size_t>(i)] +
-                         "' cannot be merged into a linear group (put a delay in the loop)");
+                         " block '" + f.atomic_name[static_cast<size_t>(i)] + "'" + (limited ? " (with output limits)" : "") +
+                         " cannot be merged into a linear group (put a delay in the loop)");
     }
     std::vector<int> ext;  // external signals read, in first-use order
     int nx = 0, nu = 0, ny = 0;

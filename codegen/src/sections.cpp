@@ -134,7 +134,9 @@ std::vector<Section> second_order_sections(const b::TransferFunction& g) {
     r.insert(r.end(), others.begin(), others.end());
     return r;
   };
-  return sections_from_roots(roots(g.num()), roots(g.den()), g.num().leading());
+  // A zero numerator (a gain parameter at 0) has no roots: the poles keep their states.
+  const std::vector<Complex> zeros = g.num().is_zero() ? std::vector<Complex>{} : roots(g.num());
+  return sections_from_roots(zeros, roots(g.den()), g.num().leading());
 }
 
 }  // namespace dmbd::codegen

@@ -33,6 +33,15 @@ std::string join(const std::vector<Diagnostic>& d) {
 DiagramError::DiagramError(std::vector<Diagnostic> diagnostics)
     : InputError(join(diagnostics)), diagnostics_(std::move(diagnostics)) {}
 
+const char* to_string(AntiWindup a) {
+  switch (a) {
+    case AntiWindup::None: return "none";
+    case AntiWindup::Clamp: return "clamp";
+    case AntiWindup::BackCalculation: return "back_calculation";
+  }
+  return "none";
+}
+
 const char* to_string(BlockType t) {
   switch (t) {
     case BlockType::Gain: return "gain";
@@ -380,7 +389,7 @@ class Loader {
         {"tf", {BlockType::Tf, {"expr", "num", "den", "discretization"}}},
         {"ss", {BlockType::Ss, {"A", "B", "C", "D", "discretization"}}},
         {"pd", {BlockType::Pd, {"P", "D", "tau", "discretization"}}},
-        {"pid", {BlockType::Pid, {"P", "I", "D", "tau", "discretization"}}},
+        {"pid", {BlockType::Pid, {"P", "I", "D", "tau", "output_limits", "anti_windup", "Kt", "discretization"}}},
         {"lowpass", {BlockType::Lowpass, {"order", "cutoff_hz", "discretization"}}},
         {"delay", {BlockType::Delay, {"seconds", "samples", "pade_order"}}},
         {"saturation", {BlockType::Saturation, {"lower", "upper"}}},
@@ -569,21 +578,7 @@ class Loader {
       case BlockType::Pd:
       case BlockType::Pid: {
         scalar_ports();
-        const bool pid = bl.type == BlockType::Pid;
-        // tau is checked below, where it is needed (a non-zero D).
-        for (const char* f : {"P", "D"})
-          if (!pid || std::string(f) == "P") require(blk, f, bl);
-        const double p = blk["P"] ? number(blk["P"], "P") : NAN;
-        const double i = pid && blk["I"] ? number(blk["I"], "I") : 0.0;
-        const double dd = blk["D"] ? number(blk["D"], "D") : 0.0;
-        const double tau = blk["tau"] ? number(blk["tau"], "tau") : 0.0;
-        if (!std::isfinite(p) || !std::isfinite(i) || !std::isfinite(dd) || !std::isfinite(tau)) return;
-        if (dd != 0.0 && !(tau > 0.0)) {
-          error(blk["tau"] ? where(blk["tau"]) : bl.where,
-                "block '" + bl.name + "': a derivative needs a filter time constant 'tau' > 0 (P + D s alone is improper)");
-          return;
-        }
-        set_tf(bl, pid ? b::pid(p, i, dd, tau) : b::pd(p, dd, tau), blk);
+        pid_block(bl, blk);
         break;
       }
       case BlockType::Lowpass: {
@@ -692,6 +687,85 @@ class Loader {
       bl.feedthrough.push_back(ft);
       col += p.size;
     }
+  }
+
+  // A gain of a pd or pid block: absent, or written as a literal 0 (a constant
+  // expression, no parameter, equal to 0), is no term and carries no state.
+  std::optional<double> term(const YAML::Node& blk, const char* field) {
+    const YAML::Node n = blk[field];
+    if (!n) return std::nullopt;
+    const double v = number(n, field);
+    if (v == 0.0 && n.IsScalar()) {
+      bool literal = false;
+      try {
+        literal = parsed_.expression(n.Scalar()).parameters().empty();
+      } catch (const b::ExpressionError&) {
+      }
+      if (literal) return std::nullopt;
+    }
+    return v;
+  }
+
+  // pd and pid: P + I/s + D s/(tau s + 1), states by structure; a pid's output limits
+  // and anti-windup (docs/diagram-format.md, "The pid block").
+  void pid_block(Block& bl, const YAML::Node& blk) {
+    const bool pid = bl.type == BlockType::Pid;
+    require(blk, "P", bl);
+    if (!pid) require(blk, "D", bl);
+    const double p = blk["P"] ? number(blk["P"], "P") : NAN;
+    const std::optional<double> i = pid ? term(blk, "I") : std::nullopt, dd = term(blk, "D");
+    const double tau = blk["tau"] ? number(blk["tau"], "tau") : 0.0;
+    if (!std::isfinite(p) || (i && !std::isfinite(*i)) || (dd && !std::isfinite(*dd)) || !std::isfinite(tau)) return;
+    if (dd && !(tau > 0.0)) {
+      error(blk["tau"] ? where(blk["tau"]) : bl.where,
+            "block '" + bl.name + "': a derivative needs a filter time constant 'tau' > 0 (P + D s alone is improper; a D "
+            "given by a parameter keeps its filter at any value, write D: 0 for no derivative)");
+      return;
+    }
+    PidLaw law;
+    law.p = p;
+    law.has_i = i.has_value();
+    law.i = i.value_or(0.0);
+    law.has_d = dd.has_value();
+    law.d = dd.value_or(0.0);
+    law.tau = law.has_d ? tau : 0.0;
+    if (pid && !pid_limits(bl, blk, law)) return;
+    if (pid) bl.pid = law;
+    set_tf(bl, b::pid_terms(p, i, dd, tau), blk);
+  }
+
+  // A pid's `output_limits`, `anti_windup` and `Kt`; false after an error.
+  bool pid_limits(const Block& bl, const YAML::Node& blk, PidLaw& law) {
+    const std::size_t before = rd_.diagnostics().size();
+    if (const YAML::Node r = blk["output_limits"]) {
+      if (!r.IsSequence() || r.size() != 2) {
+        error(r, "block '" + bl.name + "': 'output_limits' must be [lo, hi]");
+      } else {
+        const double lo = number(r[0], "output_limits"), hi = number(r[1], "output_limits");
+        if (std::isfinite(lo) && std::isfinite(hi) && !(lo < hi)) error(r, "block '" + bl.name + "': 'output_limits' must have lo < hi");
+        law.output_limits = std::make_pair(lo, hi);
+      }
+    }
+    if (const YAML::Node a = blk["anti_windup"]) {
+      const std::string t = a.IsScalar() ? a.Scalar() : "";
+      if (t == "none") law.anti_windup = AntiWindup::None;
+      else if (t == "clamp") law.anti_windup = AntiWindup::Clamp;
+      else if (t == "back_calculation") law.anti_windup = AntiWindup::BackCalculation;
+      else error(a, "block '" + bl.name + "': 'anti_windup' must be none, clamp or back_calculation");
+      if (law.anti_windup != AntiWindup::None && !law.output_limits)
+        error(a, "block '" + bl.name + "': 'anti_windup' needs 'output_limits' (there is nothing to wind up against)");
+      if (law.anti_windup != AntiWindup::None && !law.has_i)
+        error(a, "block '" + bl.name + "': 'anti_windup' needs an integral term 'I' (there is no integrator to wind up)");
+    }
+    const bool back = law.anti_windup == AntiWindup::BackCalculation;
+    if (const YAML::Node k = blk["Kt"]) {
+      if (!back) error(k, "block '" + bl.name + "': 'Kt' is the gain of anti_windup: back_calculation");
+      law.kt = number(k, "Kt");
+      if (back && std::isfinite(law.kt) && !(law.kt > 0.0)) error(k, "block '" + bl.name + "': 'Kt' must be > 0 (1/s)");
+    } else if (back) {
+      error(blk["anti_windup"], "block '" + bl.name + "': anti_windup: back_calculation needs its gain 'Kt' (1/s, e.g. sqrt(I/D) or I/P)");
+    }
+    return rd_.diagnostics().size() == before && !quiet_failure_;
   }
 
   // The diagram a subsystem block names, evaluated at the block's parameter values

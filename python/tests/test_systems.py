@@ -113,6 +113,15 @@ class Interconnection(unittest.TestCase):
         sys = dmbd.append(dmbd.tf("1/(s+1)"), dmbd.tf("3/(s+3)"))
         np.testing.assert_allclose(sys.dc_gain(), np.eye(2), atol=1e-15)
 
+    def test_minimal_refuses_a_tolerance_that_is_not_a_finite_number_at_least_0(self):
+        # Issue 28, row 11: NaN and inf gave the zero system (DC gain 0).
+        g = dmbd.ss([[-1.0]], [1.0], [1.0])
+        for tol in (float("nan"), float("inf"), -1e-9):
+            with self.assertRaisesRegex(dmbd.InputError, "minimal: the tolerance 'tol' must be a finite number >= 0"):
+                g.minimal(tol)
+        self.assertEqual(g.minimal().num_states, 1)
+        self.assertAlmostEqual(dmbd.dc_gain(g.minimal()), 1.0, places=14)
+
     def test_sample_times_must_agree(self):
         with self.assertRaises(dmbd.InputError):
             dmbd.tf("1/(z - 0.5)", ts=0.1) * dmbd.tf("1/(z - 0.5)", ts=0.2)

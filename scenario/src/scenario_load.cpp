@@ -218,8 +218,16 @@ void Reader::ports(const YAML::Node& n, const std::string& side, ControllerSetup
   const bool inputs = side == "inputs";
   for (const auto& kv : n[side]) {
     rd.guard([&] {
-      (inputs ? c.inputs : c.outputs).emplace_back(key(kv.first, ctx), text(kv.second, side));
-      (inputs ? c.input_where : c.output_where).push_back(at(kv.second));
+      const std::string port = key(kv.first, ctx);
+      auto bind = [&](const YAML::Node& signal) {
+        (inputs ? c.inputs : c.outputs).emplace_back(port, text(signal, side));
+        (inputs ? c.input_where : c.output_where).push_back(at(signal));
+      };
+      // A port wider than one element: a list of bus signals, one per element in order
+      // (its length is checked against the diagram's port when the diagram is loaded).
+      if (!kv.second.IsSequence()) return bind(kv.second);
+      if (kv.second.size() == 0) fail(kv.second, ctx + "." + port + ": expected a bus signal, or a list of them (one per element)");
+      for (const auto& e : kv.second) bind(e);
     });
   }
 }

@@ -35,16 +35,26 @@ std::vector<std::string> bind_ports(const ControllerSetup& c, const std::vector<
   const auto where_of = [&](std::size_t k) { return k < given_where.size() && !given_where[k].empty() ? given_where[k] : cwhere; };
   std::vector<std::string> out;
   for (const auto& port : ports) {
-    const auto it = std::find_if(given.begin(), given.end(), [&](const auto& g) { return g.first == port.name; });
-    if (it == given.end()) {
+    // The bindings of this port, one per element in order (a list for a wider port).
+    std::vector<std::size_t> at;
+    for (std::size_t k = 0; k < given.size(); ++k)
+      if (given[k].first == port.name) at.push_back(k);
+    if (at.empty()) {
       if (!inputs) {
-        out.emplace_back();  // published as "<controller>.<port>"
+        out.insert(out.end(), static_cast<std::size_t>(port.size), std::string());  // published as "<controller>.<port>"
         continue;
       }
       throw InputError(cwhere + ": controller '" + c.name + "': input '" + port.name + "' of " + c.diagram + " is not bound");
     }
-    out.push_back(it->second);
-    if (port_where) port_where->push_back(where_of(static_cast<std::size_t>(it - given.begin())));
+    if (at.size() != static_cast<std::size_t>(port.size))
+      throw InputError(fmt::format("{}: controller '{}': {} '{}' of {} has {} element{}: expected {}, got {} bus signal{}", where_of(at.front()),
+                                   c.name, inputs ? "input" : "output", port.name, c.diagram, port.size, port.size == 1 ? "" : "s",
+                                   port.size == 1 ? "one bus signal" : fmt::format("a list of {} bus signals, one per element in order", port.size),
+                                   at.size(), at.size() == 1 ? "" : "s"));
+    for (std::size_t k : at) {
+      out.push_back(given[k].second);
+      if (port_where) port_where->push_back(where_of(k));
+    }
   }
   for (std::size_t k = 0; k < given.size(); ++k)
     if (std::none_of(ports.begin(), ports.end(), [&](const auto& p) { return p.name == given[k].first; }))
@@ -100,8 +110,16 @@ std::string where_of(const Scenario& s, const ControllerSetup& c) { return c.whe
 }  // namespace
 
 VariantController variant_controller(const Scenario& s, const ControllerSetup& c, double duration_s) {
-  const Lowered l = lowered(c);
   const std::string cwhere = where_of(s, c);
+  Lowered l;
+  try {
+    l = lowered(c);
+  } catch (const diagrams::DiagramError&) {
+    throw;  // located in the diagram file already, one line per problem
+  } catch (InputError& e) {
+    e.prepend(cwhere + ": controller '" + c.name + "': ");  // lowering: the controller's line
+    throw;
+  }
   VariantController vc;
   if (c.scalar == Scalar::Fixed) vc.fixed_point = facts(c, *l.diagram, *l.program, *l.fixed, duration_s);
   ControllerSpec& cs = vc.spec;

@@ -149,8 +149,7 @@ connections:
 
 TEST_F(AnalyzeStructure, ChainOfThousandFirstOrderFilters) {
   // 1000 blocks 10/(s + 10) from u to y (before: "non-finite coefficient" from 200
-  // blocks on). Poles -10 x 1000, DC gain 1 (1e-12), no gain crossover (|G| < 1 for
-  // w > 0), bandwidth at w = 10 sqrt(10^(0.3/1000) - 1) (1e-9 relative); Bode at 1 Hz
+  // blocks on). Poles -10 x 1000, DC gain 1 (1e-12), no margins (not a loop), bandwidth at w = 10 sqrt(10^(0.3/1000) - 1) (1e-9 relative); Bode at 1 Hz
   // is -10000 log10(1 + (2 pi/10)^2) dB with phase -1000 atan(2 pi/10) (1e-9 relative);
   // the step rises around 1000 tau = 100 s.
   const fs::path d = write("chain.yaml", dmbd::test::chain_diagram(1000, "{type: tf, expr: \"10/(s+10)\"}"));
@@ -160,7 +159,10 @@ TEST_F(AnalyzeStructure, ChainOfThousandFirstOrderFilters) {
   EXPECT_TRUE(j["zeros"].empty());
   EXPECT_EQ(j["states"], 1000);
   EXPECT_NEAR(j["dc_gain"].get<double>(), 1.0, 1e-12);
-  EXPECT_TRUE(j["gain_crossovers"].empty());
+  // A transfer between two signals is no loop: no margins at all (issue 28, row 14; the
+  // chain had no gain crossover, |G| < 1 for w > 0).
+  EXPECT_FALSE(j.contains("gain_crossovers"));
+  EXPECT_EQ(j["loop_transfer"], false);
   const double bw = 10.0 * std::sqrt(std::pow(10.0, 0.3 / 1000.0) - 1.0) / (2.0 * M_PI);
   EXPECT_NEAR(j["bandwidth_hz"].get<double>(), bw, 1e-9 * bw);
   const double x = 2.0 * M_PI / 10.0, mag = -10000.0 * std::log10(1.0 + x * x), ph = -1000.0 * std::atan(x) * 180.0 / M_PI;

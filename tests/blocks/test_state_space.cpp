@@ -195,6 +195,25 @@ TEST(StateSpace, MinimalRemovesUnobservableAndUncontrollableStates) {
   EXPECT_EQ(g.minimal().num_states(), 3);
 }
 
+// Issue 28, row 11: a NaN tolerance compared false against every singular value and
+// removed every state (the zero system); inf did the same, a negative one kept all.
+TEST(StateSpace, MinimalRefusesANonFiniteOrNegativeTolerance) {
+  const StateSpace g(Matrix::Constant(1, 1, -1.0), Matrix::Constant(1, 1, 1.0), Matrix::Constant(1, 1, 1.0),
+                     Matrix::Zero(1, 1));
+  for (double tol : {std::nan(""), HUGE_VAL, -HUGE_VAL, -1e-9}) {
+    try {
+      (void)g.minimal(tol);
+      ADD_FAILURE() << "tol = " << tol << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("minimal: the tolerance 'tol' must be a finite number >= 0"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(g.minimal(0.0).num_states(), 1);  // 0 is a tolerance (keep every state that is not exactly lost)
+  EXPECT_THROW((void)TransferFunction::parse("(s+1)/((s+1)*(s+2))").minreal(std::nan("")), InputError);
+}
+
 TEST(StateSpace, DcGain) {
   // (s+2)/((s+1)(s+4)) -> 2/4 = 0.5; LU solve, 1e-14.
   EXPECT_NEAR(StateSpace::from_tf(TransferFunction::parse("(s+2)/((s+1)*(s+4))")).dc_gain()(0, 0), 0.5, 1e-14);

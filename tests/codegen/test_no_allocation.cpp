@@ -111,5 +111,18 @@ TEST(NoAllocation, InterpreterStepOfAnEighthOrderFilter) {
   EXPECT_EQ(allocations_in_steps<double>(p, 50000), 0);
 }
 
+// Issue 28, row 13: a pid with output limits in each anti-windup mode (its clamps
+// engage on the noise of amplitude 1 against limits of +-0.5).
+TEST(NoAllocation, InterpreterStepOfALimitedPidInEveryAntiWindupMode) {
+  for (const std::string mode : {"none", "clamp", "back_calculation, Kt: 40"}) {
+    SCOPED_TRACE(mode);
+    const auto d = parse("name: pid\ninputs:\n  e: {}\noutputs:\n  u: {}\nblocks:\n  C: {type: pid, P: 2, I: 30, D: 0.05, "
+                         "tau: 0.002, output_limits: [-0.5, 0.5], anti_windup: " + mode + "}\nconnections:\n  - e -> C\n  - C -> u\n");
+    const LoopProgram p = lower(*d, at(2000.0));
+    EXPECT_EQ(allocations_in_steps<double>(p, 20000), 0);
+    EXPECT_EQ(allocations_in_steps<float>(p, 20000), 0);
+  }
+}
+
 }  // namespace
 }  // namespace dmbd::codegen

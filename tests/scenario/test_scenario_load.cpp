@@ -215,6 +215,101 @@ TEST(SimScenarioLoad, ControllerPortThatTheDiagramLacks) {
   check_error(dir.file("s.yaml"), {"unknown port", yaml, "q_x: l_knee.q", "has no input 'q_x'"});
 }
 
+// Issue 28, row 17: a diagram port wider than one element did not bind (one bus
+// signal per port: "1 inputs bound for 2 controller inputs" at the controller). A
+// list binds element by element, in order; a list of the wrong length (or one signal
+// for a wider port) is one error on the binding's line.
+const char* const kPairDiagram =
+    "name: pair\n"
+    "inputs:\n  q: {unit: rad, size: 2}\n"
+    "outputs:\n  y: {size: 2}\n"
+    "blocks:\n  K: {type: gain, k: [[0, 1], [2, 0]]}\n"
+    "connections:\n  - q -> K\n  - K -> y\n";
+
+std::string pair_scenario(const std::string& inputs, const std::string& outputs) {
+  return "name: pair_binding\n"
+         "robot: {name: draco, base: fixed, base_pose: {xyz: [0, 0, 1.3]}, moving: [l_knee], actuators: [l_knee], "
+         "initial: {l_knee: 1.0}, lock: {l_knee: 1.0}}\n"
+         "duration_s: 0.02\n"
+         "log_rate_hz: 1000\n"
+         "log: [probe_a, probe_b]\n"
+         "references:\n  q_d: 0.25\n"
+         "controllers:\n"
+         "  - name: pair\n"
+         "    diagram: pair.yaml\n"
+         "    rate_hz: 1000\n"
+         "    inputs: " + inputs + "\n"
+         "    outputs: " + outputs + "\n";
+}
+
+// Issue 28, row 10: controller 1 with D_q: 0 (a P-only position loop) was refused
+// when the scenario lowered it ("an improper transfer function has no second-order
+// sections", no line). It runs, and the knee follows the reference's step from 1 to
+// 1.05 rad at 10 ms upwards as a P loop does (1.017 rad at 50 ms when written: above
+// 1.005, below the 1.06 an overshoot of 20 % would reach).
+TEST(SimScenarioLoad, ControllerWithItsDerivativeGainAtZeroRuns) {
+  TempDir dir;
+  const std::string path = dir.file("p_only.yaml");
+  write_text(path, replace_line(base_scenario(), "    rate_hz: 1000", "    rate_hz: 1000\n    parameters: {D_q: 0}"));
+  const Scenario s = load_scenario(path);
+  ASSERT_EQ(s.variants[0].controllers[0].parameters.size(), 1u);
+  const auto r = dmbd::scenario::run_variant(s, s.variants[0], {});
+  const auto& q = r.log.column("l_knee.q");
+  ASSERT_FALSE(q.empty());
+  EXPECT_GT(q.back(), 1.005);
+  EXPECT_LT(q.back(), 1.06);
+}
+
+// A controller its diagram cannot be lowered for (a discrete diagram at another rate)
+// is one error at the controller's line (before, the lowering's message had no line).
+TEST(SimScenarioLoad, AControllerThatCannotBeLoweredIsLocated) {
+  TempDir dir;
+  write_text(dir.file("discrete.yaml"),
+             "name: discrete\nsample_time: 0.002\ninputs:\n  q_d: {}\n  q_m: {}\noutputs:\n  i: {}\n"
+             "blocks:\n  e: {type: sum, signs: \"+-\"}\nconnections: [q_d -> e.in1, q_m -> e.in2, e -> i]\n");
+  const std::string yaml = replace_line(base_scenario(), "  - name: position", "  - name: position_at_500_hz") ;
+  const std::string with = replace_line(yaml, "    diagram: " + kEncoderController, "    diagram: discrete.yaml");
+  check_error(dir.file("s.yaml"), {"discrete at another rate", with, "- name: position_at_500_hz",
+                                   "controller 'position_at_500_hz': diagram 'discrete' is discrete at 500"});
+}
+
+TEST(SimScenarioLoad, AWidePortBindsElementByElement) {
+  TempDir dir;
+  write_text(dir.file("pair.yaml"), kPairDiagram);
+  const std::string path = dir.file("s.yaml");
+  write_text(path, pair_scenario("{q: [l_knee.q, q_d]}", "{y: [probe_a, probe_b]}"));
+  const Scenario s = load_scenario(path);
+  const auto r = dmbd::scenario::run_variant(s, s.variants[0], {});
+  // y = K q = [q_d, 2 q]: probe_a is the reference exactly; probe_b twice the locked
+  // knee angle (held to < 1 mrad by the lock's stiff constraint: 2e-3).
+  const auto& a = r.log.column("probe_a");
+  const auto& b = r.log.column("probe_b");
+  ASSERT_GE(a.size(), 10u);
+  EXPECT_EQ(a.back(), 0.25);
+  EXPECT_NEAR(b.back(), 2.0, 2e-3);
+  // Bound the other way round, the elements swap: order is the list's.
+  write_text(path, pair_scenario("{q: [q_d, l_knee.q]}", "{y: [probe_b, probe_a]}"));
+  const Scenario t = load_scenario(path);
+  const auto& a2 = dmbd::scenario::run_variant(t, t.variants[0], {}).log.column("probe_a");
+  EXPECT_NEAR(a2.back(), 0.5, 1e-15);  // 2 q_d
+}
+
+TEST(SimScenarioLoad, AWidePortBoundToTheWrongNumberOfSignalsIsOneLocatedError) {
+  TempDir dir;
+  write_text(dir.file("pair.yaml"), kPairDiagram);
+  const std::string path = dir.file("s.yaml");
+  check_error(path, {"one signal for two elements", pair_scenario("{q: l_knee.q}", "{y: [probe_a, probe_b]}"), "inputs: {q: l_knee.q}",
+                     "pair.yaml has 2 elements: expected a list of 2 bus signals, one per element in order, got 1 bus signal"});
+  check_error(path, {"three signals for two elements", pair_scenario("{q: [l_knee.q, q_d]}", "{y: [probe_a, probe_b, probe_a]}"),
+                     "outputs: {y: [probe_a", "pair.yaml has 2 elements: expected a list of 2 bus signals, one per element in order, got 3"});
+  check_error(path, {"empty list", pair_scenario("{q: []}", "{y: [probe_a, probe_b]}"), "inputs: {q: []}",
+                     "controller 'pair'.inputs.q: expected a bus signal, or a list of them (one per element)"});
+  // A list for a port of one element.
+  check_error(path, {"two signals for one element",
+                     replace_line(base_scenario(), "    inputs: {q_d: q_d, q_m: l_knee.q_enc}", "    inputs: {q_d: [q_d, q_d], q_m: l_knee.q_enc}"),
+                     "inputs: {q_d: [q_d, q_d]", "input 'q_d' of " + kEncoderController + " has 1 element: expected one bus signal, got 2"});
+}
+
 TEST(SimScenarioLoad, ThermalWithoutCooling) {
   TempDir dir;
   const std::string yaml = replace_line(base_scenario(), "duration_s: 0.05", "duration_s: 0.05\nthermal: {}");

@@ -72,7 +72,8 @@ class StateSpace {
   Eigen::MatrixXcd evaluate(Complex x) const;
 
   // Remove uncontrollable then unobservable states (orthogonal staircase, rank decided
-  // by tol relative to the largest singular value).
+  // by tol relative to the largest singular value). InputError naming 'tol' unless tol
+  // is a finite number >= 0.
   StateSpace minimal(double tol = 1e-9) const;
   // Same system, similarity transform T: A' = T^-1 A T, B' = T^-1 B, C' = C T. InputError
   // unless T is n x n and invertible.

@@ -60,7 +60,8 @@ class TransferFunction {
   // Continuous: all poles with Re < 0. Discrete: all poles with |z| < 1.
   bool is_stable() const;
 
-  // Cancel pole/zero pairs closer than tol relative to (1 + |root|).
+  // Cancel pole/zero pairs closer than tol relative to (1 + |root|). InputError naming
+  // 'tol' unless tol is a finite number >= 0.
   TransferFunction minreal(double tol = 1e-7) const;
 
   // Interconnection (sample times must agree; InputError otherwise).

@@ -59,6 +59,34 @@ struct Port {
 
 class Diagram;
 
+// What a pid block's integrator does while its output is limited
+// (docs/diagram-format.md, "The pid block").
+enum class AntiWindup {
+  None,             // the integrator runs on (winds up)
+  Clamp,            // the integral term is held within the output limits
+  BackCalculation,  // the integrator is driven by Kt (u_limited - u) as well
+};
+// "none", "clamp", "back_calculation".
+const char* to_string(AntiWindup a);
+
+// A pid block's law term by term, as written: P + I/s + D s/(tau s + 1), then its
+// output limits. A term absent from the block, or written as a literal 0, is absent
+// here (has_i, has_d false) and carries no state; one given by a parameter keeps its
+// state at any value. Code generation realises a pid with output limits from this
+// (codegen/src/pid_lowering.cpp); linear analysis uses the unsaturated law.
+struct PidLaw {
+  double p = 0.0;     // proportional gain
+  double i = 0.0;     // integral gain (1/s), when has_i
+  double d = 0.0;     // derivative gain (s), when has_d
+  double tau = 0.0;   // derivative filter time constant (s, > 0 when has_d)
+  bool has_i = false;  // the block has an integral term (and its state)
+  bool has_d = false;  // the block has a derivative term (and its filter's state)
+  // `output_limits: [lo, hi]` (lo < hi), if given: the output is clamped there.
+  std::optional<std::pair<double, double>> output_limits;
+  AntiWindup anti_windup = AntiWindup::None;  // `anti_windup` (needs output_limits and I)
+  double kt = 0.0;  // `Kt` (1/s, > 0): the back-calculation gain
+};
+
 // One block of a diagram, evaluated at the diagram's parameter values. Which of the
 // type-specific fields below are set depends on `type`.
 struct Block {
@@ -95,6 +123,8 @@ struct Block {
   // A sampled plant's dead time per input (s) and whole-period delay per output.
   std::vector<double> input_delays_s;
   std::vector<int> output_delay_samples;  // per output of a sampled plant
+  // pid: its law term by term, with its output limits and anti-windup.
+  std::optional<PidLaw> pid;
   // The block's own discretisation for code generation (field `discretization`), if any.
   std::optional<blocks::C2dMethod> method;
   // Direct feedthrough from input port k to any output (algebraic-loop check).
