@@ -290,8 +290,8 @@ TEST(SimScenarioLoad, AWidePortBindsElementByElement) {
   // Bound the other way round, the elements swap: order is the list's.
   write_text(path, pair_scenario("{q: [q_d, l_knee.q]}", "{y: [probe_b, probe_a]}"));
   const Scenario t = load_scenario(path);
-  const auto& a2 = dmbd::scenario::run_variant(t, t.variants[0], {}).log.column("probe_a");
-  EXPECT_NEAR(a2.back(), 0.5, 1e-15);  // 2 q_d
+  const auto r2 = dmbd::scenario::run_variant(t, t.variants[0], {});  // kept: the column lives in it
+  EXPECT_NEAR(r2.log.column("probe_a").back(), 0.5, 1e-15);  // 2 q_d
 }
 
 TEST(SimScenarioLoad, AWidePortBoundToTheWrongNumberOfSignalsIsOneLocatedError) {
