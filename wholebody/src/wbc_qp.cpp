@@ -20,15 +20,19 @@ WbcQp::WbcQp(const Layout& layout, int num_contacts, const WbcQpParams& params)
     : nv_(layout.nv),
       nj_(static_cast<int>(layout.joints.size())),
       nc_(num_contacts),
-      n_(layout.nv + 6 * num_contacts),
+      n_(nj_ + 3 * num_contacts),
       params_(params),
-      qp_(n_, kBase + 3 * num_contacts, 6 * num_contacts + 2 * nj_),
+      qp_(n_, 0, 6 * num_contacts + 2 * nj_),
+      P_(6, n_),
+      K_(3 * num_contacts, n_),
+      k_(3 * num_contacts),
+      B_(kBase + 3 * num_contacts, n_),
+      beta_(kBase + 3 * num_contacts),
       G_(Eigen::MatrixXd::Zero(n_, n_)),
-      C_eq_(Eigen::MatrixXd::Zero(kBase + 3 * num_contacts, n_)),
+      C_eq_(0, n_),
       C_in_(Eigen::MatrixXd::Zero(6 * num_contacts + 2 * nj_, n_)),
-      AJ_(Eigen::MatrixXd::Zero(layout.nv, layout.nv + 3 * num_contacts)),
       a_(Eigen::VectorXd::Zero(n_)),
-      b_eq_(Eigen::VectorXd::Zero(kBase + 3 * num_contacts)),
+      b_eq_(0),
       b_in_(Eigen::VectorXd::Zero(6 * num_contacts + 2 * nj_)),
       rhs_(Eigen::VectorXd::Zero(layout.nv)),
       tau_(Eigen::VectorXd::Zero(nj_)),
@@ -44,11 +48,9 @@ WbcQp::WbcQp(const Layout& layout, int num_contacts, const WbcQpParams& params)
   for (int j = 0; j < nj_; ++j)
     if (layout.joints[static_cast<size_t>(j)].v_index != kBase + j)
       throw InputError("whole-body QP: the joints must follow the base in v");
-  // Contact accelerations minus their slack (the slack block is constant).
-  C_eq_.block(kBase, nv_ + 3 * nc_, 3 * nc_, 3 * nc_) = -Eigen::MatrixXd::Identity(3 * nc_, 3 * nc_);
   // The friction pyramids: F_z ≥ 0, μF_z ∓ F_x ≥ 0, μF_z ∓ F_y ≥ 0 (F_z ≤ F_max per tick).
   for (int c = 0; c < nc_; ++c) {
-    const int f = nv_ + 3 * c, r = 6 * c;
+    const int f = nj_ + 3 * c, r = 6 * c;
     C_in_(r, f + 2) = 1.0;
     C_in_(r + 1, f + 2) = -1.0;
     for (int k = 0; k < 2; ++k) {
@@ -64,56 +66,99 @@ QpStatus WbcQp::solve(const ModelData& data, const Eigen::Ref<const Eigen::Matri
                       const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v, const Eigen::Ref<const Eigen::VectorXd>& qdd_cmd,
                       const ContactSetting* contacts) {
   assert(J_c.rows() == 3 * nc_ && J_c.cols() == nv_ && qdd_cmd.size() == nv_);
-  AJ_.leftCols(nv_) = data.A;
-  AJ_.rightCols(3 * nc_) = -J_c.transpose();
   rhs_ = data.bg;  // A q̈_cmd + b + g: what Δq̈ and F must balance
   rhs_.noalias() += data.A * qdd_cmd;
+  if (!reduce(data, J_c, Jc_dot_v, qdd_cmd)) return QpStatus::NotPositiveDefinite;
   build_cost(contacts);
-  build_equalities(J_c, Jc_dot_v, qdd_cmd);
-  build_inequalities(contacts);
+  build_inequalities(data, J_c, contacts);
   const QpStatus status = qp_.solve(G_, a_, C_eq_, b_eq_, C_in_, b_in_);
   if (status != QpStatus::Optimal) return status;
-  qdd_ = qdd_cmd + qp_.x().head(nv_);
-  forces_ = qp_.x().segment(nv_, 3 * nc_);
+  recover(qdd_cmd);
   torques_of(data, J_c);
   return status;
 }
 
-// ½zᵀGz with G diagonal: 2 × each weight (the QP's ½ cancels the problem's own scale).
+// The equalities solved for the variables they fix. Base rows: A_bb Δq̈_b + A_bj Δq̈_j −
+// J_c,bᵀ F = −rhs_b, so Δq̈_b = A_bb⁻¹ ([−A_bj, J_c,bᵀ] y − rhs_b). Contact rows: s =
+// J_c (q̈_cmd + Δq̈) + J̇_c v = J_c,b Δq̈_b + [J_c,j, 0] y + e. False if A_bb is not
+// positive definite (no physical floating base).
+// The products here are small (at most 16 x 12 x 16 on DRACO): lazyProduct evaluates
+// them coefficient by coefficient, without the packing a blocked product spends on them.
+bool WbcQp::reduce(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c,
+                   const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v, const Eigen::Ref<const Eigen::VectorXd>& qdd_cmd) {
+  base_inertia_.compute(data.A.topLeftCorner<kBase, kBase>());
+  if (base_inertia_.info() != Eigen::Success) return false;
+  // A_bb⁻¹ once (fixed 6 x 6, unrolled), then a product: solving in place against the
+  // 6 x n right-hand side takes Eigen's blocked triangular path, three times the cost.
+  const Eigen::Matrix<double, kBase, kBase> inverse = base_inertia_.solve(Eigen::Matrix<double, kBase, kBase>::Identity());
+  K_.leftCols(nj_) = -data.A.topRightCorner(kBase, nj_);  // K_'s top rows as scratch: [−A_bj, J_c,bᵀ]
+  K_.rightCols(3 * nc_) = J_c.leftCols(kBase).transpose();
+  P_.noalias() = inverse.lazyProduct(K_.topRows(kBase));
+  p0_.noalias() = -(inverse * rhs_.head<kBase>());
+  K_.noalias() = J_c.leftCols(kBase).lazyProduct(P_);
+  K_.leftCols(nj_) += J_c.rightCols(nj_);
+  k_ = Jc_dot_v;
+  k_.noalias() += J_c * qdd_cmd;
+  k_.noalias() += J_c.leftCols(kBase) * p0_;
+  return true;
+}
+
+// ½yᵀGy + aᵀy: the full problem's ½zᵀ diag(g) z (g = 2 × each weight) on the base's
+// and the slacks' residuals B y + β (weighted by √g), plus the joints' and forces' own
+// diagonal terms. G = BᵀB entry by entry, each a dot product of two of B's columns (the
+// lower triangle, mirrored): a third of the cost of Eigen's product for these sizes.
 void WbcQp::build_cost(const ContactSetting* contacts) {
-  G_.diagonal().head(nv_).setConstant(2.0 * params_.w_qdd);
-  if (params_.w_qdd_base >= 0.0) G_.diagonal().segment(3, 3).setConstant(2.0 * params_.w_qdd_base);  // base translation
+  for (int i = 0; i < kBase; ++i) {
+    const bool translation = i >= 3 && params_.w_qdd_base >= 0.0;
+    const double w = std::sqrt(2.0 * (translation ? params_.w_qdd_base : params_.w_qdd));
+    B_.row(i) = w * P_.row(i);
+    beta_[i] = w * p0_[i];
+  }
   for (int c = 0; c < nc_; ++c) {
-    const int f = nv_ + 3 * c, s = nv_ + 3 * nc_ + 3 * c;
-    G_(f, f) = G_(f + 1, f + 1) = 2.0 * contacts[c].w_tangential;
-    G_(f + 2, f + 2) = 2.0 * contacts[c].w_normal;
-    for (int k = 0; k < 3; ++k) G_(s + k, s + k) = 2.0 * contacts[c].w_slack;
+    const double w = std::sqrt(2.0 * contacts[c].w_slack);
+    B_.middleRows(kBase + 3 * c, 3) = w * K_.middleRows(3 * c, 3);
+    beta_.segment(kBase + 3 * c, 3) = w * k_.segment(3 * c, 3);
+  }
+  for (int j = 0; j < n_; ++j) {
+    for (int i = j; i < n_; ++i) G_(i, j) = B_.col(i).dot(B_.col(j));
+    G_.row(j).tail(n_ - j - 1) = G_.col(j).tail(n_ - j - 1).transpose();
+    a_[j] = B_.col(j).dot(beta_);
+  }
+  G_.diagonal().head(nj_).array() += 2.0 * params_.w_qdd;
+  for (int c = 0; c < nc_; ++c) {
+    const int f = nj_ + 3 * c;
+    G_(f, f) += 2.0 * contacts[c].w_tangential;
+    G_(f + 1, f + 1) += 2.0 * contacts[c].w_tangential;
+    G_(f + 2, f + 2) += 2.0 * contacts[c].w_normal;
   }
 }
 
-// Base rows: [A_b, −J_c,bᵀ] [Δq̈; F] = −(A q̈_cmd + b + g)_b; contact rows:
-// J_c Δq̈ − s = −J_c q̈_cmd − J̇_c v.
-void WbcQp::build_equalities(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v,
-                             const Eigen::Ref<const Eigen::VectorXd>& qdd_cmd) {
-  C_eq_.topLeftCorner(kBase, nv_ + 3 * nc_) = AJ_.topRows(kBase);
-  b_eq_.head(kBase) = -rhs_.head(kBase);
-  C_eq_.block(kBase, 0, 3 * nc_, nv_) = J_c;
-  b_eq_.tail(3 * nc_) = -Jc_dot_v;
-  b_eq_.tail(3 * nc_).noalias() -= J_c * qdd_cmd;
-}
-
-// F_z ≤ F_max per contact, and each joint's torque within ±τ_max:
-// ±(S_a [A, −J_cᵀ] [Δq̈; F] + S_a (A q̈_cmd + b + g)) ≥ −τ_max.
-void WbcQp::build_inequalities(const ContactSetting* contacts) {
+// F_z ≤ F_max per contact, and each joint's torque within ±τ_max, τ = M y + m with
+// M = A_jb P + [A_jj, −J_c,jᵀ] and m = A_jb p₀ + rhs_j: ±(M y + m) ≥ −τ_max.
+void WbcQp::build_inequalities(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c,
+                               const ContactSetting* contacts) {
   for (int c = 0; c < nc_; ++c) b_in_[6 * c + 1] = -contacts[c].f_max_N;
   const int t = 6 * nc_;
-  const auto joint_rows = AJ_.bottomRows(nj_);
-  C_in_.block(t, 0, nj_, nv_ + 3 * nc_) = joint_rows;
-  C_in_.block(t + nj_, 0, nj_, nv_ + 3 * nc_) = -joint_rows;
-  b_in_.segment(t, nj_) = -rhs_.tail(nj_);
-  b_in_.segment(t, nj_) -= limit_;
-  b_in_.segment(t + nj_, nj_) = rhs_.tail(nj_);
-  b_in_.segment(t + nj_, nj_) -= limit_;
+  auto M = C_in_.middleRows(t, nj_);
+  M.noalias() = data.A.bottomLeftCorner(nj_, kBase).lazyProduct(P_);
+  M.leftCols(nj_) += data.A.bottomRightCorner(nj_, nj_);
+  M.rightCols(3 * nc_) -= J_c.rightCols(nj_).transpose();
+  C_in_.middleRows(t + nj_, nj_) = -M;
+  auto m = b_in_.segment(t + nj_, nj_);  // m, then the bounds' constants from it
+  m = rhs_.tail(nj_);
+  m.noalias() += data.A.bottomLeftCorner(nj_, kBase) * p0_;
+  b_in_.segment(t, nj_) = -m - limit_;
+  m -= limit_;
+}
+
+// Δq̈ = [P y + p₀; y_j], F = y_F.
+void WbcQp::recover(const Eigen::Ref<const Eigen::VectorXd>& qdd_cmd) {
+  const Eigen::VectorXd& y = qp_.x();
+  qdd_ = qdd_cmd;
+  qdd_.head<kBase>() += p0_;
+  qdd_.head<kBase>().noalias() += P_ * y;
+  qdd_.tail(nj_) += y.head(nj_);
+  forces_ = y.tail(3 * nc_);
 }
 
 // τ = S_a [A q̈ + b + g − J_cᵀ F].

@@ -49,6 +49,7 @@ class QpSolver {
  private:
   bool start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
   bool start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G);  // G diagonal
+  void invert_upper_factor();  // J = L⁻ᵀ from llt_
   bool add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq);
   QpStatus add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_in);
   int most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack);

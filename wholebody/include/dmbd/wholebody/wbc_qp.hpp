@@ -16,8 +16,16 @@
 // Forces are in world axes, the normal along +z (flat ground). Output: τ per joint
 // (Layout::joints order), the corrected q̈ and the forces. Allocation-free after
 // construction; the QP is wholebody::QpSolver.
+//
+// Solved in reduced variables y = [Δq̈_j (n_j), F (3 n_c)], the same problem without its
+// equalities: the floating-base rows give the base's Δq̈_b = P y + p₀ (A_bb, the robot's
+// composite inertia at the base, is positive definite), and each slack is the contact's
+// acceleration, s = K y + k. Substituted into the cost and the torque rows, they leave a
+// dense (n_j + 3 n_c)-variable QP with inequalities only: a third of the variables and no
+// equality phase (the solver's largest cost in the full form, issue 27).
 #include <vector>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "dmbd/wholebody/qp.hpp"
@@ -61,16 +69,24 @@ class WbcQp {
   const QpSolver& qp() const { return qp_; }
 
  private:
+  bool reduce(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c,
+              const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v, const Eigen::Ref<const Eigen::VectorXd>& qdd_cmd);
   void build_cost(const ContactSetting* contacts);
-  void build_equalities(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v,
-                        const Eigen::Ref<const Eigen::VectorXd>& qdd_cmd);
-  void build_inequalities(const ContactSetting* contacts);
+  void build_inequalities(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c, const ContactSetting* contacts);
+  void recover(const Eigen::Ref<const Eigen::VectorXd>& qdd_cmd);
   void torques_of(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd>& J_c);
 
-  int nv_, nj_, nc_, n_;
+  int nv_, nj_, nc_, n_;   // n_: the reduced variables, n_j + 3 n_c
   WbcQpParams params_;
   QpSolver qp_;
-  Eigen::MatrixXd G_, C_eq_, C_in_, AJ_;   // AJ_: [A, −J_cᵀ] (nv x (nv + 3 n_c))
+  Eigen::LLT<Eigen::Matrix<double, 6, 6>> base_inertia_;  // A_bb
+  Eigen::Matrix<double, 6, Eigen::Dynamic> P_;            // Δq̈_b = P y + p₀
+  Eigen::Matrix<double, 6, 1> p0_;
+  Eigen::MatrixXd K_;      // slack s = K y + k (3 n_c x n)
+  Eigen::VectorXd k_;
+  Eigen::MatrixXd B_;      // the weighted residual rows [√W_b P; √W_s K] (6 + 3 n_c x n)
+  Eigen::VectorXd beta_;   // and their constants [√W_b p₀; √W_s k]
+  Eigen::MatrixXd G_, C_eq_, C_in_;
   Eigen::VectorXd a_, b_eq_, b_in_, rhs_, tau_, qdd_, forces_, full_tau_;
   Eigen::VectorXd limit_;  // per joint: min(torque_limit_Nm, the joint's effort limit)
 };
