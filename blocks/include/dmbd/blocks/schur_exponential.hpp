@@ -8,6 +8,7 @@
 
 namespace dmbd::blocks {
 
+// Dense complex matrices (the Schur form and its exponential).
 using ComplexMatrix = Eigen::MatrixXcd;
 
 // M = U T U* (complex Schur form, U unitary, T upper triangular) once; e^{Mt} = U e^{Tt} U*
@@ -29,6 +30,7 @@ class SchurExponential {
  public:
   // Any square real M with finite entries (InputError otherwise).
   explicit SchurExponential(const Matrix& m);
+  // The order of M.
   int size() const { return static_cast<int>(t_.rows()); }
   // e^{Mt} (real part; t >= 0). Entries that overflow double are inf or NaN (an unstable
   // M over a horizon it grows beyond 1e308 on).
@@ -39,6 +41,7 @@ class SchurExponential {
   // ||M k dt|| <= 1/2) directly, those between by at most kRestart - 1 products with
   // e^{M dt}, so rounding cannot accumulate over the horizon.
   Matrix samples(const Vector& v, double dt, int n) const;
+  // Samples between two computed directly by samples().
   static constexpr int kRestart = 16;
 
  private:

@@ -66,6 +66,7 @@ class Siso {
   // or the value is not finite. What margins and bandwidth are refined on
   // (exact_frequency.hpp).
   std::optional<Complex> response(double w_rad_s) const;
+  // The largest realisation response() evaluates (a dense solve per frequency).
   static constexpr int kExactStates = 60;
 
   // Relative distance |z - p| <= kCancelTolerance |p| at which a zero cancels a pole.
