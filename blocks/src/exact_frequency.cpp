@@ -44,7 +44,12 @@ std::optional<double> refine(const Scalar& f, double w0) {
       b = m;
     }
   }
-  return 0.5 * (a + b);
+  // A sign change that is a jump (the phase's branch cut, where L is positive real), not
+  // a root, is no crossing: f must vanish there to well within its own scale.
+  const double w = 0.5 * (a + b);
+  const std::optional<double> fw = f(w);
+  if (!fw || std::abs(*fw) > 1e-6) return std::nullopt;
+  return w;
 }
 
 std::optional<Complex> finite(const ExactResponse& exact, double w) {
