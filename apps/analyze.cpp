@@ -7,6 +7,7 @@
 #include "dmbd/base/number_text.hpp"
 #include "dmbd/blocks/delay.hpp"
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/blocks/exact_frequency.hpp"
 #include "dmbd/blocks/sampled.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/zpk.hpp"
@@ -95,8 +96,14 @@ void describe(json& r, const b::Siso& g) {
   r["stability"] = b::to_string(st);
 }
 
-void add_margins(json& r, const b::Zpk& z) {
-  const b::Margins m = b::margins(z);
+// The transfer's own response (coefficients or state space), on which the figures
+// found on the zeros and poles are refined (blocks/exact_frequency.hpp).
+b::ExactResponse exact_response(const b::Siso& g) {
+  return [&g](double w) { return g.response(w); };
+}
+
+void add_margins(json& r, const b::Siso& g) {
+  const b::Margins m = b::margins(g.zpk(), exact_response(g));
   r["gain_margin_db"] = number(m.gain_margin_db);
   r["phase_crossover_hz"] = hz(m.phase_crossover_rad_s);
   r["phase_margin_deg"] = number(m.phase_margin_deg);
@@ -109,10 +116,10 @@ void add_margins(json& r, const b::Zpk& z) {
   r["phase_crossovers"] = all;
 }
 
-json bode_json(const b::Zpk& z, const std::vector<double>& freq_hz) {
+json bode_json(const b::Siso& g, const std::vector<double>& freq_hz) {
   std::vector<double> w;
   for (double f : freq_hz) w.push_back(f * kTwoPi);
-  const b::Bode bd = b::bode(z, w);
+  const b::Bode bd = b::bode(g.zpk(), w, exact_response(g));
   json mag = json::array(), ph = json::array();
   for (size_t k = 0; k < w.size(); ++k) {
     mag.push_back(number(bd.mag_db[k]));
@@ -182,9 +189,9 @@ json analyze(const b::Siso& g, const AnalyzeRequest& req) {
   json r;
   describe(r, g);
   r["loop_transfer"] = req.loop;
-  if (req.loop) add_margins(r, g.zpk());
-  r["bandwidth_hz"] = hz(b::bandwidth(g.zpk()));
-  if (!req.freq_hz.empty()) r["bode"] = bode_json(g.zpk(), req.freq_hz);
+  if (req.loop) add_margins(r, g);
+  r["bandwidth_hz"] = hz(b::bandwidth(g.zpk(), exact_response(g)));
+  if (!req.freq_hz.empty()) r["bode"] = bode_json(g, req.freq_hz);
   const bool need_step = req.step.has_value() || !req.step_png.empty();
   if (need_step && !g.realisation()) {
     throw InputError("a step response needs a proper transfer function (numerator degree " +
@@ -211,7 +218,7 @@ void write_plots(const b::Siso& g, const json& r, const AnalyzeRequest& req) {
       const auto [lo, hi] = std::minmax_element(req.freq_hz.begin(), req.freq_hz.end());
       if (*hi > *lo) w = b::logspace(*lo * kTwoPi, *hi * kTwoPi, 600);
     }
-    const b::Bode bd = b::bode(g.zpk(), w);
+    const b::Bode bd = b::bode(g.zpk(), w, exact_response(g));
     std::vector<double> f(w.size());
     for (size_t k = 0; k < w.size(); ++k) f[k] = w[k] / kTwoPi;
     std::optional<double> gc, pc;

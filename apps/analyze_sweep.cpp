@@ -8,6 +8,7 @@
 #include "cli_values.hpp"
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/number_text.hpp"
+#include "dmbd/blocks/exact_frequency.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/zpk.hpp"
 
@@ -45,7 +46,8 @@ json sweep_point(const diagrams::Diagram& d, double value, const TransferChoice&
   const b::Zpk& z = t.transfer.zpk();
   const b::Stability st = b::stability(z);
   const std::vector<b::Complex> poles = z.all_poles();
-  const std::optional<double> dc = z.dc_gain(), bw = b::bandwidth(z);
+  const std::optional<double> dc = z.dc_gain(),
+                              bw = b::bandwidth(z, [&t](double w) { return t.transfer.response(w); });
   return {{"value", value},
           {"stable", st == b::Stability::Stable},
           {"stability", b::to_string(st)},

@@ -16,7 +16,10 @@
 #include <string>
 
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/siso.hpp"
+
+#include "dmbd/blocks/frequency.hpp"
 
 namespace dmbd::blocks {
 
@@ -274,6 +277,7 @@ Siso Siso::from_tf(const TransferFunction& g) {
   Siso s;
   s.zpk_ = Zpk::from_tf(g);
   s.tf_ = g;
+  s.coefficients_are_data_ = true;
   s.modes_ = g.poles();
   const double x0 = g.is_discrete() ? 1.0 : 0.0;
   const auto [n, mn] = g.num().without_root(x0);
@@ -300,6 +304,8 @@ Siso Siso::minreal(double rel_tol, std::vector<Complex>* removed) const {
   sort_roots(s.hidden_);
   s.factors_ = 1;
   s.tf_ = reduced.to_tf();
+  s.coefficients_are_data_ = false;
+  s.dense_.reset();
   s.realisation_.reset();
   if (s.tf_ && s.tf_->is_proper()) s.realisation_ = SparseStateSpace(StateSpace::from_tf(*s.tf_));
   if (removed) *removed = gone;
@@ -332,6 +338,7 @@ Siso Siso::from_state_space(const SparseStateSpace& sys) {
   if (out.zpk_.is_zero()) out.hidden_ = out.modes_;
   out.tf_ = out.zpk_.to_tf();
   out.realisation_ = r.balanced();
+  if (r.num_states() <= kExactStates) out.dense_ = out.realisation_->dense();
   sort_roots(out.hidden_);
   return out;
 }
@@ -350,6 +357,17 @@ Siso::Step Siso::step(double t_end, int n) const {
   if (!is_discrete()) y_at = [&st](double t) { return st.at(t); };
   out.info = step_figures(out.response.t, y, *zpk_.dc_gain(), y_at);
   return out;
+}
+
+std::optional<Complex> Siso::response(double w) const {
+  std::optional<Complex> h;
+  if (coefficients_are_data_) {
+    h = tf_->evaluate(is_discrete() ? std::polar(1.0, w * ts()) : Complex(0.0, w));
+  } else if (dense_) {
+    h = frequency_response(*dense_, {w}).front()(0, 0);
+  }
+  if (h && !std::isfinite(std::abs(*h))) h.reset();
+  return h;
 }
 
 double Siso::default_step_horizon() const { return step_horizon(zpk_.all_poles(), ts()); }

@@ -2,9 +2,9 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <unsupported/Eigen/MatrixFunctions>
 
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/blocks/schur_exponential.hpp"
 #include "dmbd/blocks/sparse_state_space.hpp"
 
 namespace dmbd::blocks {
@@ -86,23 +86,21 @@ SparseStep::SparseStep(const SparseStateSpace& sys, double t_end, int n, int in)
   if (n < 2) throw InputError("a time response needs at least 2 samples");
   const int nx = sys.num_states();
   dt_ = sys.is_discrete() ? sys.ts() : t_end / (n - 1);
-  augmented_ = augmented(sys, in);
-  if (!sys.is_discrete()) {
-    if (nx <= kDenseStates) {
-      step_ = (Matrix(augmented_) * dt_).exp();
-    } else {
-      action_.emplace(augmented_);
-    }
-  }
-  const double per_sample = static_cast<double>(nx) + 1.0;
-  stride_ = static_cast<int>(std::max(1.0, std::ceil(static_cast<double>(n) * per_sample / 2e7)));
   response_.t.resize(static_cast<size_t>(n));
   response_.y.resize(n, sys.num_outputs());
+  for (int k = 0; k < n; ++k) response_.t[static_cast<size_t>(k)] = k * dt_;
+  if (!sys.is_discrete() && nx <= kDenseStates) {
+    exact_samples(n);
+    return;
+  }
+  augmented_ = augmented(sys, in);
+  if (!sys.is_discrete()) action_.emplace(augmented_);
+  const double per_sample = static_cast<double>(nx) + 1.0;
+  stride_ = static_cast<int>(std::max(1.0, std::ceil(static_cast<double>(n) * per_sample / 2e7)));
   Vector z = Vector::Zero(nx + 1);
   z(nx) = 1.0;
   const Matrix d = sys.d();
   for (int k = 0; k < n; ++k) {
-    response_.t[static_cast<size_t>(k)] = k * dt_;
     if (k % stride_ == 0) checkpoints_.push_back(z);
     const Vector y = sys.c() * z.head(nx);
     for (int o = 0; o < sys.num_outputs(); ++o) response_.y(k, o) = y(o) + d(o, in);
@@ -116,22 +114,44 @@ SparseStep::SparseStep(const SparseStateSpace& sys, double t_end, int n, int in)
   }
 }
 
-Vector SparseStep::advance(const Vector& z, double t) const {
-  if (t == dt_ && step_.size() > 0) return step_ * z;
-  if (action_) return action_->apply(z, t);
-  return (Matrix(augmented_) * t).exp() * z;
+// A small continuous system: every sample from e^{M t_k} of the augmented M = [A B; 0 0]
+// (Van Loan: its last column holds x(t_k) = integral of e^{A s} B over [0, t_k]), with no
+// cancellation at small t and no drift at large t (SchurExponential). The states are
+// balanced first (an exact power-of-two diagonal similarity, the transfer unchanged): a
+// companion realisation of 1e6/((s + 1e-6)(s + 1e6)) has entries 1e6 apart, and
+// balancing shrinks ||M||, hence the squarings, and the rounding relative to the states.
+void SparseStep::exact_samples(int n) {
+  sys_ = sys_.balanced();
+  const int nx = sys_.num_states();
+  augmented_ = augmented(sys_, in_);
+  exact_.emplace(Matrix(augmented_));
+  Vector z0 = Vector::Zero(nx + 1);
+  z0(nx) = 1.0;
+  const Matrix z = exact_->samples(z0, dt_, n);
+  const Matrix y = sys_.c() * z.topRows(nx);
+  for (int k = 0; k < n; ++k)
+    for (int o = 0; o < sys_.num_outputs(); ++o) response_.y(k, o) = y(o, k) + sys_.d()(o, in_);
 }
+
+Vector SparseStep::advance(const Vector& z, double t) const { return action_->apply(z, t); }
 
 double SparseStep::at(double t, int out) const {
   if (out < 0 || out >= sys_.num_outputs()) throw InputError("step: output " + std::to_string(out) + " does not exist");
   const int last = static_cast<int>(response_.t.size()) - 1;
   const int k = std::clamp(static_cast<int>(std::floor(t / dt_)), 0, last);
   if (sys_.is_discrete()) return response_.y(k, out);
-  const int c = k / stride_;
-  Vector z = checkpoints_[static_cast<size_t>(c)];
-  const double t0 = static_cast<double>(c) * stride_ * dt_;
-  if (t > t0) z = advance(z, t - t0);
   const int nx = sys_.num_states();
+  Vector z;
+  if (exact_) {
+    z = Vector::Zero(nx + 1);
+    z(nx) = 1.0;
+    z = exact_->apply(z, std::max(t, 0.0));
+  } else {
+    const int c = k / stride_;
+    z = checkpoints_[static_cast<size_t>(c)];
+    const double t0 = static_cast<double>(c) * stride_ * dt_;
+    if (t > t0) z = advance(z, t - t0);
+  }
   return (sys_.c().row(out) * z.head(nx))(0, 0) + sys_.d()(out, in_);
 }
 

@@ -4,9 +4,9 @@
 #include <functional>
 #include <limits>
 #include <string>
-#include <unsupported/Eigen/MatrixFunctions>
 
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/blocks/schur_exponential.hpp"
 
 namespace dmbd::blocks {
 
@@ -16,13 +16,32 @@ struct Zoh {
   Matrix phi, gamma;
 };
 
-Zoh zoh(const StateSpace& sys, double dt) {
+// [A B; 0 0]: the state [x; u] of a system whose input is held constant (Van Loan).
+Matrix augmented(const StateSpace& sys) {
   const int n = sys.num_states(), m = sys.num_inputs();
   Matrix big = Matrix::Zero(n + m, n + m);
-  big.topLeftCorner(n, n) = sys.a() * dt;
-  big.topRightCorner(n, m) = sys.b() * dt;
-  const Matrix e = big.exp();
+  big.topLeftCorner(n, n) = sys.a();
+  big.topRightCorner(n, m) = sys.b();
+  return big;
+}
+
+// ZOH over dt (SchurExponential: to rounding for any dt and stiffness).
+Zoh zoh(const StateSpace& sys, double dt) {
+  const int n = sys.num_states(), m = sys.num_inputs();
+  const Matrix e = SchurExponential(augmented(sys)).exp(dt);
   return {e.topLeftCorner(n, n), e.topRightCorner(n, m)};
+}
+
+// The response C x + D u at k dt from the states x (the first rows of the columns of z)
+// and the constant input u.
+TimeResponse outputs(const StateSpace& sys, const Matrix& z, double dt, const Vector& u) {
+  TimeResponse r;
+  const int n = sys.num_states();
+  r.t.resize(static_cast<size_t>(z.cols()));
+  for (Eigen::Index k = 0; k < z.cols(); ++k) r.t[static_cast<size_t>(k)] = static_cast<double>(k) * dt;
+  r.y = (sys.c() * z.topRows(n)).transpose();
+  r.y.rowwise() += (sys.d() * u).transpose();
+  return r;
 }
 
 void check_channel(const StateSpace& sys, int in) {
@@ -108,10 +127,19 @@ TimeResponse step(const StateSpace& sys, double t_end, int n, int in) {
     if (n > 50'000'000) throw InputError("step: too many samples for this sample time and final time");
   }
   check_horizon(t_end, std::max(n, 2));
-  Matrix u = Matrix::Zero(n, sys.num_inputs());
-  u.col(in).setOnes();
   const double dt = sys.is_discrete() ? sys.ts() : t_end / (n - 1);
-  return lsim(sys, u, dt);
+  if (sys.is_discrete()) {
+    Matrix u = Matrix::Zero(n, sys.num_inputs());
+    u.col(in).setOnes();
+    return lsim(sys, u, dt);
+  }
+  // Each sample from e^{M t_k} of the augmented M (no accumulation over the horizon);
+  // balanced first (exact power-of-two similarity: smaller ||M||, fewer squarings).
+  const StateSpace bal = sys.balanced();
+  Vector z0 = Vector::Zero(bal.num_states() + bal.num_inputs());
+  z0(bal.num_states() + in) = 1.0;
+  return outputs(bal, SchurExponential(augmented(bal)).samples(z0, dt, n), dt,
+                 z0.tail(bal.num_inputs()));
 }
 
 TimeResponse impulse(const StateSpace& sys, double t_end, int n, int in) {
@@ -125,9 +153,10 @@ TimeResponse impulse(const StateSpace& sys, double t_end, int n, int in) {
   }
   check_horizon(t_end, n);
   const double dt = t_end / (n - 1);
-  const Zoh z = zoh(sys, dt);
-  const StateSpace free(sys.a(), Matrix::Zero(sys.num_states(), 1), sys.c(), Matrix::Zero(sys.num_outputs(), 1));
-  return run(free, z.phi, Matrix::Zero(sys.num_states(), 1), Matrix::Zero(n, 1), dt, sys.b().col(in));
+  // y(t_k) = C e^{A t_k} B, each sample from its own exponential (SchurExponential).
+  const StateSpace bal = sys.balanced();
+  const Matrix x = SchurExponential(bal.a()).samples(bal.b().col(in), dt, n);
+  return outputs(bal, x, dt, Vector::Zero(bal.num_inputs()));
 }
 
 TimeResponse lsim(const StateSpace& sys, const Matrix& u, double dt, const Vector& x0) {
@@ -157,12 +186,16 @@ StepInfo step_info(const StateSpace& sys, const TimeResponse& resp, int out, int
   // Exact response between samples (continuous): y(t) = C Gamma(t) + D for a unit step
   // from rest; on samples of a discrete system only.
   std::function<double(double)> y_at;
-  if (!sys.is_discrete())
+  std::optional<SchurExponential> e;
+  if (!sys.is_discrete()) {
+    e.emplace(augmented(ch));
     y_at = [&](double t) {
       if (t <= 0.0) return ch.d()(0, 0);
-      const Zoh z = zoh(ch, t);
-      return (ch.c() * z.gamma)(0, 0) + ch.d()(0, 0);
+      Vector z0 = Vector::Zero(e->size());
+      z0(e->size() - 1) = 1.0;
+      return (ch.c() * e->apply(z0, t).head(ch.num_states()))(0, 0) + ch.d()(0, 0);
     };
+  }
   std::vector<double> y(resp.t.size());
   for (size_t k = 0; k < y.size(); ++k) y[k] = resp.y(static_cast<Eigen::Index>(k), out);
   return step_figures(resp.t, y, ch.dc_gain()(0, 0), y_at, settling_fraction, rise_low, rise_high);

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "dmbd/base/error.hpp"
+#include "dmbd/blocks/exact_frequency.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/siso.hpp"
 #include "dmbd/blocks/zpk.hpp"
@@ -120,7 +121,10 @@ py::dict step_info(const py::object& sys, const py::object& t_end_obj, int n) {
 }
 
 py::dict margins(const py::object& sys) {
-  const b::Margins m = b::margins(siso_of(sys, "margins").zpk());
+  // Found on the zeros and poles, refined on the transfer's own response (a repeated
+  // pole's roots are scattered by rounding; exact_frequency.hpp).
+  const b::Siso g = siso_of(sys, "margins");
+  const b::Margins m = b::margins(g.zpk(), [&g](double w) { return g.response(w); });
   py::list gc, pc;
   for (const b::Crossing& c : m.gain_crossovers) gc.append(py::dict("w_rad_s"_a = c.w_rad_s, "phase_margin_deg"_a = c.margin));
   for (const b::Crossing& c : m.phase_crossovers) pc.append(py::dict("w_rad_s"_a = c.w_rad_s, "gain_margin_db"_a = c.margin));
@@ -174,7 +178,10 @@ gain_margin_db, phase_crossover_rad_s, phase_margin_deg, gain_crossover_rad_s (N
 where there is no crossover; the margin of smallest magnitude, as MATLAB's margin),
 and every crossing: gain_crossovers [{w_rad_s, phase_margin_deg}], phase_crossovers
 [{w_rad_s, gain_margin_db}].)doc");
-  m.def("bandwidth", [](const py::object& sys, double drop_db) { return optional_float(b::bandwidth(siso_of(sys, "bandwidth").zpk(), drop_db)); },
+  m.def("bandwidth", [](const py::object& sys, double drop_db) {
+          const b::Siso g = siso_of(sys, "bandwidth");
+          return optional_float(b::bandwidth(g.zpk(), [&g](double w) { return g.response(w); }, drop_db));
+        },
         "sys"_a, "drop_db"_a = -3.0, "First frequency (rad/s) where |G| falls drop_db below |G(0)|; None if never.");
   m.def("dc_gain", &dc_gain, "sys"_a,
         "The steady-state gain: a float (None when infinite) for a SISO system, a matrix for a StateSpace with several channels.");

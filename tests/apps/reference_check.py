@@ -7,9 +7,11 @@ method and compared to 1e-6 relative:
   DC gain           limit by cancelling exact roots at s = 0 / z = 1
   Bode              scipy.signal.freqs / freqz; phase unwrapped with numpy.unwrap on a
                     dense grid from far below the slowest root (dmbd: per-factor phase)
-  step              scipy.signal.lsim (matrix exponential, ZOH); rise, settling and
-                    peak located with scipy.optimize.brentq / minimize_scalar on the exact
-                    response C e^{At}... evaluated with scipy.linalg.expm
+  step              samples from e^{M dt} of the augmented companion matrix in 40-digit
+                    mpmath and its powers (scipy.signal.lsim drifts over long horizons,
+                    issue 28); rise, settling and peak located with scipy.optimize.brentq /
+                    minimize_scalar on the exact response evaluated with scipy.linalg.expm
+                    (mpmath where ||A|| t > 50)
   margins           dense grid scan + brentq on |L| - 1 and Im L (dmbd: polynomial roots)
   bandwidth         dense grid scan + brentq on |G| - |G(0)| 10^(-3/20)
   c2d               scipy.signal.cont2discrete (zoh, bilinear, backward_diff)
@@ -180,14 +182,49 @@ def bandwidth_reference(num, den, ts):
     return optimize.brentq(f, w[idx[0]], w[idx[0] + 1], xtol=1e-15, rtol=1e-15)
 
 
+def mp_augmented(num, den):
+    """[A b; 0 0] of the controllable companion realisation of num/den in mpmath, and c, d."""
+    den = [mpmath.mpf(float(x)) for x in den]
+    num = [mpmath.mpf(float(x)) for x in num]
+    den, num = [x / den[0] for x in den], [x / den[0] for x in num]
+    n = len(den) - 1
+    num = [mpmath.mpf(0)] * (n + 1 - len(num)) + num
+    m = mpmath.zeros(n + 1, n + 1)
+    for j in range(n):
+        m[0, j] = -den[j + 1]
+    for i in range(1, n):
+        m[i, i - 1] = 1
+    m[0, n] = 1
+    return m, [num[j + 1] - num[0] * den[j + 1] for j in range(n)], num[0], n
+
+
+def step_samples_mp(num, den, t):
+    """Step response at equally spaced t, exact to far below double rounding: e^{M dt} of
+    the augmented companion matrix in 40-digit mpmath, then its powers (issue 28: SciPy's
+    lsim drifts over long horizons and loses a stiff system's slow mode)."""
+    with mpmath.workdps(40):
+        m, c, d, n = mp_augmented(num, den)
+        e = mpmath.expm(m * (mpmath.mpf(t[1]) - mpmath.mpf(t[0]))) if len(t) > 1 else None
+        z = mpmath.zeros(n + 1, 1)
+        z[n] = 1
+        y = []
+        for _ in t:
+            y.append(float(sum(c[j] * z[j] for j in range(n)) + d))
+            z = e * z
+        return np.array(y)
+
+
 def step_reference(num, den, t):
     a, b, c, d = signal.tf2ss(num, den)
-    _, y, _ = signal.lsim((a, b, c, d), np.ones_like(t), t, interp=False)
+    y = step_samples_mp(num, den, t)
     n = a.shape[0]
+    norm_a = np.max(np.sum(np.abs(a), axis=0)) if n else 0.0
 
     def y_at(tt):
         if tt <= 0:
             return float(d[0, 0])
+        if tt * norm_a > 50:  # long or stiff: SciPy's expm loses digits there (issue 28)
+            return float(step_samples_mp(num, den, [0.0, tt])[1])
         big = np.zeros((n + 1, n + 1))
         big[:n, :n] = a * tt
         big[:n, n:] = b * tt
@@ -309,9 +346,19 @@ CASES = [
     ("negative DC gain", ["--tf", "-2/(s+1)", "--freq", "0.1,1,10", "--step", "6:601"]),
     ("discrete in z", ["--tf", "0.1*(z + 0.5)/((z - 0.9)*(z - 0.5))", "--ts", "0.001", "--freq-range", "0.1:499:31"]),
     ("discrete loop", ["--tf", "0.05*(z+1)/((z-1)*(z-0.6))", "--ts", "0.01", "--freq-range", "0.01:49:31"]),
+    # Issue 28, rows 2, 2b and 3 (frequency part).
+    ("issue 28 row 2: lag over 1e15 s", ["--tf", "1/(s+1)", "--step", "1e15:3"]),
+    ("issue 28 row 2b: stiff", ["--tf", "1e6/((s+1e-6)*(s+1e6))", "--step", "1e7:11"]),
+    ("issue 28 row 3: 20-fold pole", ["--tf", "1/(s+1)^20", "--freq", "0.001,0.0252077,0.0298356,0.1,1"]),
     ("lag with delay (Pade 3 expanded)", ["--tf", "(1 - s*T/2 + (s*T)^2/10 - (s*T)^3/120)/((1 + s*T/2 + (s*T)^2/10 + (s*T)^3/120)*(s+1))",
                                           "--param", "T=0.2", "--freq-range", "0.01:100:31", "--step", "10:2001"]),
 ]
+
+
+# The double coefficients of (s + 1)^20 fix its roots only to about eps^(1/20) = 0.17
+# relative: two root finders scatter them differently, and neither is the reference for
+# the responses, which are compared from the coefficients.
+ROOTS_NOT_COMPARED = {"issue 28 row 3: 20-fold pole"}
 
 
 def check(label, args, exe):
@@ -325,8 +372,9 @@ def check(label, args, exe):
     # The coefficients themselves come from dmbd's parser; check them against a
     # second evaluation of the same expression only through the responses below,
     # which use numpy on these coefficients.
-    match_roots(pre + "poles", r["poles"], np.roots(den))
-    match_roots(pre + "zeros", r["zeros"], np.roots(num) if len(num) > 1 else [])
+    if label not in ROOTS_NOT_COMPARED:
+        match_roots(pre + "poles", r["poles"], np.roots(den))
+        match_roots(pre + "zeros", r["zeros"], np.roots(num) if len(num) > 1 else [])
     close(pre + "dc_gain", r["dc_gain"], dc_gain(num, den, bool(ts)))
     poles = np.roots(den)
     stable = bool(np.all(np.abs(poles) < 1) if ts else np.all(np.real(poles) < 0))

@@ -59,6 +59,16 @@ class Siso {
   // The states the transfer sees, balanced; empty for an improper TF.
   const std::optional<SparseStateSpace>& realisation() const { return realisation_; }
 
+  // The transfer at jw (e^{jw ts}) from the data it was made from, not from its roots:
+  // from_tf, the coefficients (Horner); from_state_space, the realisation up to
+  // kExactStates states (a Hessenberg solve of (jwI - A) x = b). Empty when neither
+  // applies (a larger diagram, or after minreal: the factored form is then the data)
+  // or the value is not finite. What margins and bandwidth are refined on
+  // (exact_frequency.hpp).
+  std::optional<Complex> response(double w_rad_s) const;
+  // The largest realisation response() evaluates (a dense solve per frequency).
+  static constexpr int kExactStates = 60;
+
   // Relative distance |z - p| <= kCancelTolerance |p| at which a zero cancels a pole.
   static constexpr double kCancelTolerance = 1e-7;
 
@@ -80,6 +90,8 @@ class Siso {
   std::vector<Complex> modes_, hidden_;
   int factors_ = 1;
   std::optional<SparseStateSpace> realisation_;
+  bool coefficients_are_data_ = false;  // from_tf: tf_ is what was given
+  std::optional<StateSpace> dense_;     // from_state_space, small: the realisation
 };
 
 // Two formulations of the zeros and gain of a minimal SISO system whose poles (the

@@ -5,6 +5,7 @@
 #include <optional>
 #include <vector>
 
+#include "dmbd/blocks/schur_exponential.hpp"
 #include "dmbd/blocks/state_space.hpp"
 #include "dmbd/blocks/time_response.hpp"
 
@@ -94,13 +95,14 @@ class SparseStep {
   double at(double t, int out = 0) const;
 
  private:
-  Vector advance(const Vector& z, double t) const;  // augmented state after t
+  Vector advance(const Vector& z, double t) const;  // augmented state after t (large systems)
+  void exact_samples(int n);                         // small continuous systems
   SparseStateSpace sys_;
   int in_ = 0, stride_ = 1;
   double dt_ = 0.0;
   std::optional<ExponentialAction> action_;
+  std::optional<SchurExponential> exact_;
   SparseMatrix augmented_;
-  Matrix step_;  // dense e^{M dt} (small systems)
   std::vector<Vector> checkpoints_;  // augmented state every stride_ samples
   TimeResponse response_;
 };
