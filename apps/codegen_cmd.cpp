@@ -32,6 +32,9 @@ CodegenCommand::CodegenCommand(CLI::App& app)
   cmd_->add_option("--block-method", block_methods_, "BLOCK=METHOD: another method for one block; repeatable");
   cmd_->add_option("--scalar", scalar_, "double (default), float or fixed");
   cmd_->add_option("--word", word_, "Fixed-point word: 16 or 32 bits (default 32)");
+  cmd_->add_option("--state-bits", state_bits_,
+                   "Fixed-point words of the state update: auto (default: 32 bits where the range analysis needs them, in "
+                   "a 16-bit program), 16 or 32");
   cmd_->add_option("--language", language_, "cpp (default: <name>.hpp) or c (C99: <name>.h and <name>.c)");
   cmd_->add_option("--input-range", input_range_, "LO:HI of every input where the diagram gives none (verification)");
   cmd_->add_option("--name", name_, "Namespace (C: symbol prefix) and file name (default: the diagram's name, or 'tf')");
@@ -126,6 +129,11 @@ int CodegenCommand::run() {
   const bool fixed = scalar_ == "fixed";
   const cg::Scalar scalar = scalar_ == "float" ? cg::Scalar::Float : cg::Scalar::Double;
   if (word_ != "32" && word_ != "16") throw InputError("--word '" + word_ + "': expected 16 or 32");
+  if (state_bits_ != "auto" && state_bits_ != "16" && state_bits_ != "32")
+    throw InputError("--state-bits '" + state_bits_ + "': expected auto, 16 or 32");
+  if (word_ == "32" && state_bits_ == "16")
+    throw InputError("--state-bits 16: narrower than the 32-bit word (--word 32 takes auto or 32)");
+  const int state_bits = state_bits_ == "auto" ? cg::kStateBitsAuto : std::stoi(state_bits_);
   if (language_ != "cpp" && language_ != "c") throw InputError("--language '" + language_ + "': expected c or cpp");
   const cg::Language language = language_ == "c" ? cg::Language::C : cg::Language::Cpp;
   check_output_folder(out_, "--out");
@@ -144,7 +152,7 @@ int CodegenCommand::run() {
   for (const std::string& file : files) check_output_file(file, "--out");
 
   std::optional<cg::FixedProgram> fx;
-  if (fixed) fx = cg::make_fixed(program, gen.source.input_ranges, word_ == "32" ? 32 : 16);
+  if (fixed) fx = cg::make_fixed(program, gen.source.input_ranges, word_ == "32" ? 32 : 16, state_bits);
   const nlohmann::json base = codegen_report(program, fx ? &*fx : nullptr, gen.source);
   const cg::EmitOptions eo{scalar, gen.source.text};
   std::string wrote = header;

@@ -17,7 +17,7 @@ class CodegenCommand : public Command {
 
  private:
   std::string diagram_, tf_, rate_, method_, scalar_ = "double", word_ = "32", input_range_, name_, out_ = ".",
-              language_ = "cpp";
+              language_ = "cpp", state_bits_ = "auto";
   std::vector<std::string> params_, block_methods_;
   bool verify_ = false;
 };

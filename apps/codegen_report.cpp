@@ -94,6 +94,7 @@ void add_quantisation(json& report, const cg::LoopProgram& program, const cg::Fi
   json slots = report["slots"];
   for (size_t k = 0; k < program.slots.size(); ++k) {
     slots[k]["q"] = fx.q[k];
+    slots[k]["bits"] = fx.bits[k];  // the word: fx.word_bits, or fx.state_bits where widened
     slots[k]["range"] = fx.simulated[k] ? "simulated" : "guaranteed";
     if (fx.simulated[k]) slots[k]["bound"] = fx.bound[k];
   }
@@ -105,6 +106,10 @@ void add_quantisation(json& report, const cg::LoopProgram& program, const cg::Fi
   for (double v : bound.infinite) pb.push_back(std::isfinite(v) ? json(v) : json(nullptr));
   report["predicted_error_bound"] = pb;
   report["predicted_error_bound_horizon"] = error_bound_json(program, bound);
+  json wide = json::array();
+  for (size_t k = 0; k < program.slots.size(); ++k)
+    if (fx.bits[k] != fx.word_bits) wide.push_back(program.slots[k].name);
+  report["word_bits"] = {{"word", fx.word_bits}, {"state", fx.state_bits}, {"widened", wide}};
   warn_bound_beyond_range(report, program, bound, source, fx.word_bits);
   const cg::QuantisationEffect q = cg::quantisation_effect(program, fx.quantised);
   report["poles_exact"] = roots(q.poles_exact);

@@ -31,7 +31,8 @@ void md_signals(std::ostream& md, const json& r) {
     md << "| " << s["name"].get<std::string>() << " | " << s["kind"].get<std::string>() << " | "
        << s["origin"].get<std::string>() << " | " << s["unit"].get<std::string>() << " | "
        << (s["bound"].is_null() ? std::string("unbounded") : cell(s, "bound")) << " | " << cell(s, "range") << " | "
-       << cell(s, "q16") << " | " << cell(s, "q32") << " | " << cell(s, "q") << " |\n";
+       << cell(s, "q16") << " | " << cell(s, "q32") << " | " << cell(s, "q")
+       << (s.contains("bits") ? fmt::format(" ({}-bit)", s["bits"].get<int>()) : std::string()) << " |\n";
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "dmbd/base/progress.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/report/report.hpp"
@@ -49,7 +50,8 @@ double parse_duration(const std::string& text) {
 namespace {
 
 // A progress bar on stderr when it is a terminal, once the run has taken more than a
-// second; its line is ended when the run ends, also by an error.
+// second, with the time elapsed and the time remaining; its line is ended when the run
+// ends, also by an error.
 class ProgressBar {
  public:
   ProgressBar() : tty_(isatty(STDERR_FILENO) != 0), start_(std::chrono::steady_clock::now()) {}
@@ -59,13 +61,12 @@ class ProgressBar {
   ProgressBar(const ProgressBar&) = delete;
   ProgressBar& operator=(const ProgressBar&) = delete;
 
+  // The bar with the time elapsed and the time remaining (dmbd::progress_line).
   void show(double f, const std::string& variant) {
     if (!tty_) return;
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     if (el < 1.0 && f < 1.0) return;
-    const int width = 30, n = static_cast<int>(std::clamp(f, 0.0, 1.0) * width);
-    std::fprintf(stderr, "\r[%s%s] %3d%%  %-24.24s %6.1f s", std::string(static_cast<std::size_t>(n), '#').c_str(),
-                 std::string(static_cast<std::size_t>(width - n), '.').c_str(), static_cast<int>(f * 100), variant.c_str(), el);
+    std::fprintf(stderr, "\r%s\033[K", progress_line(f, variant, el).c_str());  // \033[K: clear the rest of the line
     drawn_ = true;
   }
 

@@ -80,10 +80,10 @@ std::string emit_fixed_header(const LoopProgram& p, const FixedProgram& f, const
   if (p.inputs.empty() || p.outputs.empty()) throw InputError("a controller needs at least one input and one output");
   detail::check_cpp_names(p);
   const int w = f.word_bits;
-  const std::string W = w == 32 ? "fx::Word32" : "fx::Word16", sfx = std::to_string(w), I = w == 32 ? "int32_t" : "int16_t";
+  const std::string sfx = std::to_string(w), I = w == 32 ? "int32_t" : "int16_t";
   auto q = [&](int slot) { return f.q[static_cast<size_t>(slot)]; };
   std::ostringstream h;
-  detail::write_preamble(h, p, p.name + ".hpp", o.source, std::to_string(w) + "-bit fixed point",
+  detail::write_preamble(h, p, p.name + ".hpp", o.source, detail::fixed_arithmetic(f),
                          {"Contract (docs/codegen.md): step(u, y) takes and gives integer words in the formats below",
                           "(Qf: value = word / 2^f), integer arithmetic only, saturating on overflow and counting it",
                           "(saturations()); rounding half up at every narrowing; step_real() quantises and converts."},
@@ -113,7 +113,8 @@ std::string emit_fixed_header(const LoopProgram& p, const FixedProgram& f, const
     << "    for (int k = 0; k < kNumOutputs; ++k) y[k] = fx::dequantize" << sfx << "(yo[k], kOutputQ[k]);\n  }\n\n private:\n";
   for (int s : p.states) {
     const Slot& sl = p.slots[static_cast<size_t>(s)];
-    h << "  " << W << " " << detail::state_member(sl) << ";  // " << sl.origin << ", Q" << q(s) << "\n";
+    h << "  " << (f.bits[static_cast<size_t>(s)] == 32 ? "fx::Word32" : "fx::Word16") << " " << detail::state_member(sl)
+      << ";  // " << sl.origin << ", Q" << q(s) << "\n";
   }
   h << "  fx::Status status_;\n};\n\n}  // namespace " << p.name << "\n\n#endif  // " << guard << "\n";
   return h.str();

@@ -96,7 +96,7 @@ CFiles emit(const LoopProgram& p, const FixedProgram* f, const EmitOptions& o) {
     contract = {"Contract (docs/codegen.md, C output): " + n + "_reset(self) zeroes the states; " + n + "_step(self, u, y)",
                 "reads " + NI + " values, writes " + NO + " values. C99; no heap, no library calls."};
   }
-  detail::write_preamble(h, p, n + ".h", o.source, f ? sfx + "-bit fixed point" : T, contract, f, o.scalar);
+  detail::write_preamble(h, p, n + ".h", o.source, f ? detail::fixed_arithmetic(*f) : T, contract, f, o.scalar);
   const std::string guard = "DMBD_GENERATED_" + n + "_H";
   h << "#ifndef " << guard << "\n#define " << guard << "\n\n" << (f ? "#include <stdint.h>\n\n" : "")
     << "#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n"
@@ -107,7 +107,8 @@ CFiles emit(const LoopProgram& p, const FixedProgram* f, const EmitOptions& o) {
     << "typedef struct " << state << " {\n";
   for (int s : p.states) {
     const Slot& sl = p.slots[static_cast<size_t>(s)];
-    h << "  " << T << " " << detail::state_member(sl) << ";  // " << sl.origin;
+    const std::string type = f && f->bits[static_cast<size_t>(s)] == 32 ? "int32_t" : T;
+    h << "  " << type << " " << detail::state_member(sl) << ";  // " << sl.origin;
     if (f) h << ", Q" << f->q[static_cast<size_t>(s)];
     h << "\n";
   }

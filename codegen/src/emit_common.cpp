@@ -10,6 +10,15 @@ namespace dmbd::codegen::detail {
 
 std::string state_member(const Slot& s) { return s.name + "_"; }
 
+std::string fixed_arithmetic(const FixedProgram& f) {
+  long wide = 0;
+  for (int b : f.bits) wide += b != f.word_bits ? 1 : 0;
+  const std::string w = std::to_string(f.word_bits) + "-bit fixed point";
+  if (wide == 0) return w;
+  return w + ", " + std::to_string(f.state_bits) + "-bit states (" + std::to_string(wide) + " word" + (wide > 1 ? "s" : "") +
+         " of the state update widened)";
+}
+
 namespace {
 
 const char* kind_word(SlotKind k) {
@@ -65,11 +74,10 @@ void float_statements(std::ostream& h, const LoopProgram& p, const std::vector<O
 // first update statement. Returns whether they were written.
 bool fixed_statements(std::ostream& h, const LoopProgram& p, const FixedProgram& f, const StepSyntax& x,
                       const std::vector<std::string>& name, const std::string& outputs) {
-  const int w = f.word_bits;
-  const std::string sfx = std::to_string(w), ACC = x.fx + (w == 32 ? "Acc32" : "Acc16"), fx = x.fx,
-                    in = x.indent + "  ";
+  const std::string fx = x.fx, in = x.indent + "  ";
   auto q = [&](int slot) { return f.q[static_cast<size_t>(slot)]; };
-  auto word = [&](int64_t v) {
+  auto bits = [&](int slot) { return f.bits[static_cast<size_t>(slot)]; };
+  auto word = [&](int64_t v, int w) {
     if (v == -(int64_t{1} << (w - 1))) return "(-" + std::to_string((int64_t{1} << (w - 1)) - 1) + " - 1)";
     return std::to_string(v);
   };
@@ -86,15 +94,21 @@ bool fixed_statements(std::ostream& h, const LoopProgram& p, const FixedProgram&
     }
     const std::string& d = name[static_cast<size_t>(s.dst)];
     const std::string note = s.note.empty() ? "" : "  // " + s.note;
-    const std::string& a0 = name[static_cast<size_t>(s.terms[0].a)];
-    if (s.kind == FixedStatement::Kind::Copy) {
-      h << x.indent << d << " = " << fx << "convert" << sfx << "(" << a0 << ", " << q(s.terms[0].a) << ", " << q(s.dst)
-        << ", " << x.status << ");" << note << "\n";
-    } else if (s.kind == FixedStatement::Kind::Clamp) {
-      h << x.indent << d << " = " << fx << "convert" << sfx << "(" << fx << "clamp" << sfx << "(" << a0 << ", "
-        << word(s.lo) << ", " << word(s.hi) << "), " << q(s.terms[0].a) << ", " << q(s.dst) << ", " << x.status << ");"
-        << note << "\n";
+    const int a0 = s.terms[0].a;
+    // Between words of different widths: a 16-bit word widens exactly into convert32,
+    // a 32-bit one narrows by convert32_16 / narrow32_16 (a 16-bit program's 32-bit states).
+    const bool to16 = bits(s.dst) == 16;
+    if (s.kind == FixedStatement::Kind::Copy || s.kind == FixedStatement::Kind::Clamp) {
+      const std::string from = std::to_string(bits(a0));
+      const std::string convert = to16 ? (bits(a0) == 32 ? "convert32_16" : "convert16") : "convert32";
+      const std::string arg = s.kind == FixedStatement::Kind::Copy
+                                  ? name[static_cast<size_t>(a0)]
+                                  : fx + "clamp" + from + "(" + name[static_cast<size_t>(a0)] + ", " + word(s.lo, bits(a0)) +
+                                        ", " + word(s.hi, bits(a0)) + ")";
+      h << x.indent << d << " = " << fx << convert << "(" << arg << ", " << q(a0) << ", " << q(s.dst) << ", " << x.status
+        << ");" << note << "\n";
     } else {
+      const std::string sfx = std::to_string(s.bits), ACC = fx + (s.bits == 32 ? "Acc32" : "Acc16");
       h << x.indent << "{" << note << "\n" << in << ACC << " acc = 0;  // Q" << s.qacc << ", headroom rule (G): no overflow\n";
       for (const FixedTerm& t : s.terms) {
         const std::string& a = name[static_cast<size_t>(t.a)];
@@ -105,12 +119,13 @@ bool fixed_statements(std::ostream& h, const LoopProgram& p, const FixedProgram&
         } else if (t.c != 0) {
           char cv[48];
           std::snprintf(cv, sizeof cv, "%.9g", std::ldexp(static_cast<double>(t.c), -t.qc));
-          h << in << "acc = " << fx << "mac" << sfx << "_g(acc, " << a << ", " << q(t.a) << ", " << word(t.c) << ", "
+          h << in << "acc = " << fx << "mac" << sfx << "_g(acc, " << a << ", " << q(t.a) << ", " << word(t.c, s.bits) << ", "
             << t.qc << ", " << s.qacc << ");  // coefficient " << cv << "\n";
         }
       }
-      h << in << d << " = " << fx << "narrow" << sfx << "(acc, " << s.qacc << ", " << q(s.dst) << ", " << x.status
-        << ");\n" << x.indent << "}\n";
+      const std::string narrow = s.bits == 16 ? "narrow16" : to16 ? "narrow32_16" : "narrow32";
+      h << in << d << " = " << fx << narrow << "(acc, " << s.qacc << ", " << q(s.dst) << ", " << x.status << ");\n"
+        << x.indent << "}\n";
     }
   }
   return outputs_done;
@@ -128,6 +143,8 @@ void write_preamble(std::ostream& h, const LoopProgram& p, const std::string& fi
   h << "//\n";
   if (fixed) {
     h << "// Signals: format, guaranteed range\n";
+    if (fixed->bits != std::vector<int>(p.slots.size(), fixed->word_bits))
+      h << "// (\"(32-bit)\": a word of the state update widened by the range analysis, docs/codegen.md)\n";
   } else {
     h << "// Signals (all " << to_string(scalar) << "):\n";
   }
@@ -137,7 +154,8 @@ void write_preamble(std::ostream& h, const LoopProgram& p, const std::string& fi
     if (fixed) {
       char rng[64];
       std::snprintf(rng, sizeof rng, "%.6g", fixed->bound[k]);
-      h << "  Q" << fixed->q[k] << "  |x| <= " << rng;
+      h << "  Q" << fixed->q[k] << (fixed->bits[k] != fixed->word_bits ? " (" + std::to_string(fixed->bits[k]) + "-bit)" : "")
+        << "  |x| <= " << rng;
     }
     h << "  (" << s.origin << ")\n";
   }
@@ -165,11 +183,17 @@ void write_step_body(std::ostream& h, const LoopProgram& p, const FixedProgram* 
   // How each slot is spelled: inputs and signals are locals of step(), states members.
   std::vector<std::string> name;
   for (const Slot& s : p.slots) name.push_back(s.kind == SlotKind::State ? x.state_prefix + state_member(s) : s.name);
-  const std::string T = fixed ? x.fx + (fixed->word_bits == 32 ? "Word32" : "Word16") : std::string(to_string(scalar));
-  for (size_t k = 0; k < p.inputs.size(); ++k)
-    h << x.indent << "const " << T << " " << name[static_cast<size_t>(p.inputs[k])] << " = u[" << k << "];\n";
-  for (const Slot& s : p.slots)
-    if (s.kind == SlotKind::Signal || s.kind == SlotKind::Output) h << x.indent << T << " " << s.name << ";\n";
+  // A slot's type: the scalar, or its word (a 16-bit program's widened slots: Word32).
+  auto T = [&](size_t k) {
+    return fixed ? x.fx + (fixed->bits[k] == 32 ? "Word32" : "Word16") : std::string(to_string(scalar));
+  };
+  for (size_t k = 0; k < p.inputs.size(); ++k) {
+    const auto slot = static_cast<size_t>(p.inputs[k]);
+    h << x.indent << "const " << T(slot) << " " << name[slot] << " = u[" << k << "];\n";
+  }
+  for (size_t k = 0; k < p.slots.size(); ++k)
+    if (p.slots[k].kind == SlotKind::Signal || p.slots[k].kind == SlotKind::Output)
+      h << x.indent << T(k) << " " << p.slots[k].name << ";\n";
   std::string outputs;
   for (size_t k = 0; k < p.outputs.size(); ++k)
     outputs += x.indent + "y[" + std::to_string(k) + "] = " + name[static_cast<size_t>(p.outputs[k])] + ";\n";

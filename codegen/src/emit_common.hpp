@@ -22,6 +22,10 @@ struct StepSyntax {
   std::string status;        // the saturation counter argument: "status_" or "&self->saturations"
 };
 
+// The arithmetic, as the opening comment says it: "16-bit fixed point", and for a
+// program with wider words "16-bit fixed point, 32-bit states (N words widened)".
+std::string fixed_arithmetic(const FixedProgram& f);
+
 // A state's member name (the slot's name and "_").
 std::string state_member(const Slot& s);
 

@@ -19,97 +19,105 @@ namespace fx {
 #include "../runtime/fixed_point.inc"
 }  // namespace fx
 
-FixedProgram make_fixed(const LoopProgram& p, const std::vector<std::pair<double, double>>& input_ranges,
-                        int word_bits) {
-  if (word_bits != 16 && word_bits != 32) throw InputError("the word must be 16 or 32 bits");
-  FixedProgram f;
-  f.word_bits = word_bits;
+namespace {
+
+// The slots' bounds: guaranteed (slot_bounds), else simulated on the verification input.
+void bounds(FixedProgram& f, const LoopProgram& p, const std::vector<std::pair<double, double>>& input_ranges) {
   f.bound = slot_bounds(p, input_ranges);
   f.simulated.assign(p.slots.size(), false);
   bool any = false;
   for (double b : f.bound) any = any || !std::isfinite(b);
-  if (any) {
-    // Simulated ranges where no guarantee exists (docs/codegen.md).
-    Interpreter<double> it(p);
-    std::vector<double> peak(p.slots.size(), 0.0), y(p.outputs.size());
-    for (const auto& row : verification_inputs(p, input_ranges)) {
-      it.step(row.data(), y.data());
-      for (size_t k = 0; k < peak.size(); ++k) peak[k] = std::max(peak[k], std::abs(it.slots()[k]));
-    }
-    for (size_t k = 0; k < p.slots.size(); ++k)
-      if (!std::isfinite(f.bound[k])) {
-        if (!std::isfinite(peak[k]))
-          throw InputError("signal '" + p.slots[k].name + "' (" + p.slots[k].origin +
-                           ") diverges on the verification input: it cannot be given a fixed-point format");
-        f.bound[k] = 2.0 * peak[k];
-        f.simulated[k] = true;
-      }
+  if (!any) return;
+  // Simulated ranges where no guarantee exists (docs/codegen.md).
+  Interpreter<double> it(p);
+  std::vector<double> peak(p.slots.size(), 0.0), y(p.outputs.size());
+  for (const auto& row : verification_inputs(p, input_ranges)) {
+    it.step(row.data(), y.data());
+    for (size_t k = 0; k < peak.size(); ++k) peak[k] = std::max(peak[k], std::abs(it.slots()[k]));
   }
+  for (size_t k = 0; k < p.slots.size(); ++k)
+    if (!std::isfinite(f.bound[k])) {
+      if (!std::isfinite(peak[k]))
+        throw InputError("signal '" + p.slots[k].name + "' (" + p.slots[k].origin +
+                         ") diverges on the verification input: it cannot be given a fixed-point format");
+      f.bound[k] = 2.0 * peak[k];
+      f.simulated[k] = true;
+    }
+}
+
+int64_t word_max(int bits) { return (int64_t{1} << (bits - 1)) - 1; }
+
+// c in a `bits`-bit word with the finest format it holds: |c| 2^qc in [2^(bits-2), 2^(bits-1)).
+int64_t quantise(double c, int bits, int& qc) {
+  const int e = static_cast<int>(std::floor(std::log2(std::abs(c))));
+  qc = bits - 2 - e;
+  return std::max(-word_max(bits), std::min(word_max(bits), static_cast<int64_t>(std::llround(std::ldexp(c, qc)))));
+}
+
+// The formats and statements of p for the words in f.bits (f.bound already set).
+void realise(FixedProgram& f, const LoopProgram& p) {
   f.q.resize(p.slots.size());
-  for (size_t k = 0; k < p.slots.size(); ++k) f.q[k] = q_format(f.bound[k], word_bits);
-  const int64_t word_max = (int64_t{1} << (word_bits - 1)) - 1;
+  for (size_t k = 0; k < p.slots.size(); ++k) f.q[k] = q_format(f.bound[k], f.bits[k]);
   f.quantised = p;
-  auto quantise = [&](double c, int& qc) {
-    const int e = static_cast<int>(std::floor(std::log2(std::abs(c))));
-    qc = word_bits - 2 - e;  // |c| 2^qc in [2^(W-2), 2^(W-1))
-    int64_t w = std::llround(std::ldexp(c, qc));
-    if (w > word_max) w = word_max;
-    if (w < -word_max) w = -word_max;
-    return w;
-  };
-  auto all = std::vector<std::pair<const std::vector<Op>*, bool>>{{&p.output_ops, false}, {&p.update_ops, true}};
-  for (const auto& [ops, update] : all) {
-    for (size_t i = 0; i < ops->size();) {
-      const Op& o = (*ops)[i];
+  f.statements.clear();
+  const std::vector<std::pair<const std::vector<Op>*, bool>> all{{&p.output_ops, false}, {&p.update_ops, true}};
+  for (const auto& part : all) {
+    const std::vector<Op>& ops = *part.first;
+    const bool update = part.second;
+    for (size_t i = 0; i < ops.size();) {
+      const Op& o = ops[i];
       FixedStatement st;
       st.dst = o.dst;
       st.block = o.block;
       st.note = o.note;
       st.update = update;
+      // A Mul and the Macs that follow it on the same slot: one accumulation.
+      size_t j = i + 1;
+      if (o.kind != OpKind::Copy && o.kind != OpKind::Clamp)
+        while (j < ops.size() && ops[j].kind == OpKind::Mac && ops[j].dst == o.dst) ++j;
+      // The path: 32 bits if any word it reads or writes is.
+      st.bits = f.bits[static_cast<size_t>(o.dst)];
+      for (size_t k = i; k < j; ++k) st.bits = std::max(st.bits, f.bits[static_cast<size_t>(ops[k].a)]);
       if (o.kind == OpKind::Copy || o.kind == OpKind::Clamp) {
         st.kind = o.kind == OpKind::Copy ? FixedStatement::Kind::Copy : FixedStatement::Kind::Clamp;
         st.terms.push_back({o.a, 1, 0, 0});
         if (o.kind == OpKind::Clamp) {
-          // Limits in the input's format: clamp first, then convert (the input may
-          // exceed what the output's format holds, which is what the clamp is for).
-          const double scale = std::ldexp(1.0, f.q[static_cast<size_t>(o.a)]);
-          st.lo = std::max(-word_max - 1, std::min(word_max, static_cast<int64_t>(std::llround(o.lo * scale))));
-          st.hi = std::max(-word_max - 1, std::min(word_max, static_cast<int64_t>(std::llround(o.hi * scale))));
+          // Limits in the input's format and word: clamp first, then convert (the input
+          // may exceed what the output's format holds, which is what the clamp is for).
+          const auto a = static_cast<size_t>(o.a);
+          const double scale = std::ldexp(1.0, f.q[a]);
+          const int64_t m = word_max(f.bits[a]);
+          st.lo = std::max(-m - 1, std::min(m, static_cast<int64_t>(std::llround(o.lo * scale))));
+          st.hi = std::max(-m - 1, std::min(m, static_cast<int64_t>(std::llround(o.hi * scale))));
         }
         f.statements.push_back(st);
         ++i;
         continue;
       }
-      // A Mul and the Macs that follow it on the same slot: one accumulation.
-      size_t j = i;
-      do {
-        const Op& t = (*ops)[j];
+      for (size_t k = i; k < j; ++k) {
+        const Op& t = ops[k];
         FixedTerm term;
         term.a = t.a;
         if (t.c == 1.0 || t.c == -1.0) {
           term.sign = t.c > 0 ? 1 : -1;
-        } else if (t.c != 0.0) {
-          term.sign = 0;
-          term.c = quantise(t.c, term.qc);
         } else {
-          term.sign = 0;  // a zero coefficient: contributes nothing
-          term.c = 0;
-          term.qc = 0;
+          term.sign = 0;  // a zero coefficient contributes nothing
+          if (t.c != 0.0) term.c = quantise(t.c, st.bits, term.qc);
         }
-        // The quantised program, for the report.
-        Op& qo = update ? f.quantised.update_ops[j] : f.quantised.output_ops[j];
+        // The quantised program, for the report and the bound.
+        Op& qo = update ? f.quantised.update_ops[k] : f.quantised.output_ops[k];
         if (term.sign == 0) qo.c = std::ldexp(static_cast<double>(term.c), -term.qc);
         st.terms.push_back(term);
-        ++j;
-      } while (j < ops->size() && (*ops)[j].kind == OpKind::Mac && (*ops)[j].dst == o.dst);
-      // Accumulator format: g guard bits for N terms (runtime rule (G)).
+      }
+      // Accumulator format: g guard bits for N terms (runtime rule (G)), in the path's
+      // accumulator (a 16-bit word on the 32-bit path has all the more headroom).
       const int n = static_cast<int>(st.terms.size());
       int g = 0;
       while ((1 << (g + 1)) - 1 < n) ++g;
       int qacc = 1 << 20;
       for (const FixedTerm& t : st.terms) {
         const int qa = f.q[static_cast<size_t>(t.a)];
-        qacc = std::min(qacc, t.sign == 0 ? (t.c == 0 ? qacc : qa + t.qc - g) : qa + word_bits - 1 - g);
+        qacc = std::min(qacc, t.sign == 0 ? (t.c == 0 ? qacc : qa + t.qc - g) : qa + st.bits - 1 - g);
       }
       if (qacc == (1 << 20)) qacc = f.q[static_cast<size_t>(o.dst)];
       st.qacc = qacc;
@@ -117,17 +125,63 @@ FixedProgram make_fixed(const LoopProgram& p, const std::vector<std::pair<double
       i = j;
     }
   }
+}
+
+// The words that may be widened: states and the signals the state update reads.
+std::vector<int> recursion_slots(const LoopProgram& p) {
+  std::vector<char> in(p.slots.size(), 0);
+  for (int s : p.states) in[static_cast<size_t>(s)] = 1;
+  for (const Op& o : p.update_ops) in[static_cast<size_t>(o.a)] = 1;
+  std::vector<int> out;
+  for (size_t k = 0; k < p.slots.size(); ++k)
+    if (in[k] && (p.slots[k].kind == SlotKind::State || p.slots[k].kind == SlotKind::Signal))
+      out.push_back(static_cast<int>(k));
+  return out;
+}
+
+}  // namespace
+
+FixedProgram make_fixed(const LoopProgram& p, const std::vector<std::pair<double, double>>& input_ranges,
+                        int word_bits, int state_bits) {
+  if (word_bits != 16 && word_bits != 32) throw InputError("the word must be 16 or 32 bits");
+  if (state_bits != kStateBitsAuto && state_bits != word_bits && !(word_bits == 16 && state_bits == 32))
+    throw InputError("state words of " + std::to_string(state_bits) + " bits in a " + std::to_string(word_bits) +
+                     "-bit program: expected auto, " + std::to_string(word_bits) +
+                     (word_bits == 16 ? " or 32" : " (64-bit states would need a 128-bit accumulator)"));
+  FixedProgram f;
+  f.word_bits = word_bits;
+  f.state_bits = word_bits == 16 && state_bits != 16 ? 32 : word_bits;
+  bounds(f, p, input_ranges);
+  f.bits.assign(p.slots.size(), word_bits);
+  realise(f, p);
+  if (f.state_bits == word_bits) return f;
+  std::vector<int> wide = recursion_slots(p);
+  if (state_bits == kStateBitsAuto) {
+    // Widen where the rounding, accumulated, costs more than the output's own half LSB.
+    const blocks::Matrix c = rounding_contributions(p, f, kVerifySamples);
+    std::vector<int> keep;
+    for (int s : wide)
+      for (long j = 0; j < c.rows(); ++j)
+        if (c(j, s) > std::ldexp(0.5, -f.q[static_cast<size_t>(p.outputs[static_cast<size_t>(j)])])) {
+          keep.push_back(s);
+          break;
+        }
+    wide = keep;
+  }
+  if (wide.empty()) return f;
+  for (int s : wide) f.bits[static_cast<size_t>(s)] = f.state_bits;
+  realise(f, p);
   return f;
 }
 
 namespace {
 
-// One accumulation in the runtime's arithmetic for one word width; the accumulator
-// format follows the headroom rule (G), so the unchecked forms are used.
+// One accumulation in the runtime's arithmetic for one path (16-bit words and a 32-bit
+// accumulator, or 32-bit words and a 64-bit one); the accumulator format follows the
+// headroom rule (G), so the unchecked forms are used. Returns the accumulator.
 template <class Word, class Acc, Acc (*Add)(Acc, Word, int, int), Acc (*Sub)(Acc, Word, int, int),
-          Acc (*Mac)(Acc, Word, int, Word, int, int), Word (*Narrow)(Acc, int, int, fx::Status&)>
-int64_t accumulate_words(const FixedStatement& s, const std::vector<int64_t>& slots, const std::vector<int>& q, int qd,
-                         fx::Status& st) {
+          Acc (*Mac)(Acc, Word, int, Word, int, int)>
+Acc accumulate_words(const FixedStatement& s, const std::vector<int64_t>& slots, const std::vector<int>& q) {
   Acc acc = 0;
   for (const FixedTerm& t : s.terms) {
     const auto x = static_cast<Word>(slots[static_cast<size_t>(t.a)]);
@@ -136,7 +190,31 @@ int64_t accumulate_words(const FixedStatement& s, const std::vector<int64_t>& sl
     if (t.sign < 0) acc = Sub(acc, x, qa, s.qacc);
     if (t.sign == 0 && t.c != 0) acc = Mac(acc, x, qa, static_cast<Word>(t.c), t.qc, s.qacc);
   }
-  return Narrow(acc, s.qacc, qd, st);
+  return acc;
+}
+
+// A Sum statement: accumulate on its path, narrow to the destination's word.
+int64_t sum_statement(const FixedStatement& s, const std::vector<int64_t>& slots, const FixedProgram& f, fx::Status& st) {
+  const int qd = f.q[static_cast<size_t>(s.dst)];
+  if (s.bits == 16)
+    return fx::narrow16(accumulate_words<fx::Word16, fx::Acc16, fx::acc16_add_g, fx::acc16_sub_g, fx::mac16_g>(s, slots, f.q),
+                        s.qacc, qd, st);
+  const fx::Acc32 acc = accumulate_words<fx::Word32, fx::Acc32, fx::acc32_add_g, fx::acc32_sub_g, fx::mac32_g>(s, slots, f.q);
+  return f.bits[static_cast<size_t>(s.dst)] == 32 ? int64_t{fx::narrow32(acc, s.qacc, qd, st)}
+                                                  : int64_t{fx::narrow32_16(acc, s.qacc, qd, st)};
+}
+
+// A Copy or Clamp statement: clamp in the source's word, convert to the destination's.
+int64_t copy_statement(const FixedStatement& s, int64_t x, const FixedProgram& f, fx::Status& st) {
+  const auto a = static_cast<size_t>(s.terms[0].a), d = static_cast<size_t>(s.dst);
+  const bool from32 = f.bits[a] == 32, to32 = f.bits[d] == 32;
+  const int qa = f.q[a], qd = f.q[d];
+  if (s.kind == FixedStatement::Kind::Clamp)
+    x = from32 ? fx::clamp32(static_cast<fx::Word32>(x), static_cast<fx::Word32>(s.lo), static_cast<fx::Word32>(s.hi))
+               : fx::clamp16(static_cast<fx::Word16>(x), static_cast<fx::Word16>(s.lo), static_cast<fx::Word16>(s.hi));
+  if (to32) return fx::convert32(static_cast<fx::Word32>(x), qa, qd, st);  // a 16-bit word widens exactly
+  if (from32) return fx::convert32_16(static_cast<fx::Word32>(x), qa, qd, st);
+  return fx::convert16(static_cast<fx::Word16>(x), qa, qd, st);
 }
 
 }  // namespace
@@ -152,7 +230,6 @@ void FixedInterpreter::reset() {
 
 void FixedInterpreter::step(const int64_t* u, int64_t* y) {
   fx::Status st{saturations_};
-  const bool w32 = f_.word_bits == 32;
   for (size_t k = 0; k < p_.inputs.size(); ++k) s_[static_cast<size_t>(p_.inputs[k])] = u[k];
   bool outputs_done = false;
   for (const FixedStatement& s : f_.statements) {
@@ -160,29 +237,14 @@ void FixedInterpreter::step(const int64_t* u, int64_t* y) {
       for (size_t k = 0; k < p_.outputs.size(); ++k) y[k] = s_[static_cast<size_t>(p_.outputs[k])];
       outputs_done = true;
     }
-    const int qd = f_.q[static_cast<size_t>(s.dst)];
     int64_t& dst = s_[static_cast<size_t>(s.dst)];
-    switch (s.kind) {
-      case FixedStatement::Kind::Copy:
-      case FixedStatement::Kind::Clamp: {
-        const int qa = f_.q[static_cast<size_t>(s.terms[0].a)];
-        const int64_t x = s_[static_cast<size_t>(s.terms[0].a)];
-        int64_t v = x;
-        if (s.kind == FixedStatement::Kind::Clamp && (x < s.lo || x > s.hi)) ++clamp_events_;
-        if (s.kind == FixedStatement::Kind::Clamp)
-          v = w32 ? fx::clamp32(static_cast<fx::Word32>(v), static_cast<fx::Word32>(s.lo), static_cast<fx::Word32>(s.hi))
-                  : fx::clamp16(static_cast<fx::Word16>(v), static_cast<fx::Word16>(s.lo), static_cast<fx::Word16>(s.hi));
-        dst = w32 ? int64_t{fx::convert32(static_cast<fx::Word32>(v), qa, qd, st)}
-                  : int64_t{fx::convert16(static_cast<fx::Word16>(v), qa, qd, st)};
-        break;
-      }
-      case FixedStatement::Kind::Sum:
-        dst = w32 ? accumulate_words<fx::Word32, fx::Acc32, fx::acc32_add_g, fx::acc32_sub_g, fx::mac32_g, fx::narrow32>(
-                        s, s_, f_.q, qd, st)
-                  : accumulate_words<fx::Word16, fx::Acc16, fx::acc16_add_g, fx::acc16_sub_g, fx::mac16_g, fx::narrow16>(
-                        s, s_, f_.q, qd, st);
-        break;
+    if (s.kind == FixedStatement::Kind::Sum) {
+      dst = sum_statement(s, s_, f_, st);
+      continue;
     }
+    const int64_t x = s_[static_cast<size_t>(s.terms[0].a)];
+    if (s.kind == FixedStatement::Kind::Clamp && (x < s.lo || x > s.hi)) ++clamp_events_;
+    dst = copy_statement(s, x, f_, st);
   }
   if (!outputs_done)
     for (size_t k = 0; k < p_.outputs.size(); ++k) y[k] = s_[static_cast<size_t>(p_.outputs[k])];
@@ -340,15 +402,10 @@ ImpulseL1 impulse_l1(const blocks::StateSpace& ss, int horizon, int max_samples)
   return r;
 }
 
-ErrorBound predicted_error_bound(const LoopProgram& p, const FixedProgram& f,
-                                 const std::vector<std::pair<double, double>>& ranges, int horizon) {
-  const size_t no = p.outputs.size();
-  ErrorBound r;
-  r.horizon = horizon;
-  r.rounding.assign(no, 0.0);
-  r.coefficients.assign(no, 0.0);
-  std::vector<double> rounding_inf(no, 0.0), coefficients_inf(no, 0.0);
-  // Rounding sources: per written slot, the largest error one step can add there.
+namespace {
+
+// Per slot: the largest error one step adds there (0 where nothing rounds).
+std::vector<double> rounding_errors(const LoopProgram& p, const FixedProgram& f) {
   std::vector<double> err(p.slots.size(), 0.0);
   for (int k : p.inputs) err[static_cast<size_t>(k)] += std::ldexp(0.5, -f.q[static_cast<size_t>(k)]);
   for (const FixedStatement& s : f.statements) {
@@ -367,25 +424,61 @@ ErrorBound predicted_error_bound(const LoopProgram& p, const FixedProgram& f,
     }
     err[static_cast<size_t>(s.dst)] += e;
   }
+  return err;
+}
+
+// e_s ||g_s|| per output (rows) and slot (columns), over the horizon and over all steps.
+struct Contributions {
+  blocks::Matrix truncated, infinite;
+  int sources = 0;
+};
+Contributions contributions(const LoopProgram& p, const FixedProgram& f, int horizon) {
+  const long no = static_cast<long>(p.outputs.size()), ns = static_cast<long>(p.slots.size());
+  Contributions r{blocks::Matrix::Zero(no, ns), blocks::Matrix::Zero(no, ns), 0};
+  const std::vector<double> err = rounding_errors(p, f);
   std::vector<int> sources;
   for (size_t k = 0; k < p.slots.size(); ++k)
     if (err[k] > 0.0) sources.push_back(static_cast<int>(k));
   r.sources = static_cast<int>(sources.size());
-  // Rounding: the responses from the injections, in the quantised program (where the
-  // fixed program rounds), one column per source.
-  if (!sources.empty()) {
-    const blocks::StateSpace all = program_state_space(f.quantised, sources);
-    std::vector<int> outs, cols;
-    for (size_t j = 0; j < no; ++j) outs.push_back(static_cast<int>(j));
-    for (size_t k = 0; k < sources.size(); ++k) cols.push_back(static_cast<int>(p.inputs.size() + k));
-    const ImpulseL1 g = impulse_l1(all.select(outs, cols), horizon);
-    for (size_t j = 0; j < no; ++j)
-      for (size_t k = 0; k < sources.size(); ++k) {
-        const double e = err[static_cast<size_t>(sources[k])];
-        r.rounding[j] += e * g.truncated(static_cast<long>(j), static_cast<long>(k));
-        rounding_inf[j] += e * g.infinite(static_cast<long>(j), static_cast<long>(k));
-      }
-  }
+  if (sources.empty()) return r;
+  // The responses from the injections, in the quantised program (where the fixed
+  // program rounds), one column per source.
+  const blocks::StateSpace all = program_state_space(f.quantised, sources);
+  std::vector<int> outs, cols;
+  for (long j = 0; j < no; ++j) outs.push_back(static_cast<int>(j));
+  for (size_t k = 0; k < sources.size(); ++k) cols.push_back(static_cast<int>(p.inputs.size() + k));
+  const ImpulseL1 g = impulse_l1(all.select(outs, cols), horizon);
+  for (long j = 0; j < no; ++j)
+    for (size_t k = 0; k < sources.size(); ++k) {
+      const double e = err[static_cast<size_t>(sources[k])];
+      r.truncated(j, sources[k]) = e * g.truncated(j, static_cast<long>(k));
+      r.infinite(j, sources[k]) = e * g.infinite(j, static_cast<long>(k));
+    }
+  return r;
+}
+
+}  // namespace
+
+blocks::Matrix rounding_contributions(const LoopProgram& p, const FixedProgram& f, int horizon) {
+  return contributions(p, f, horizon).truncated;
+}
+
+ErrorBound predicted_error_bound(const LoopProgram& p, const FixedProgram& f,
+                                 const std::vector<std::pair<double, double>>& ranges, int horizon) {
+  const size_t no = p.outputs.size();
+  ErrorBound r;
+  r.horizon = horizon;
+  r.rounding.assign(no, 0.0);
+  r.coefficients.assign(no, 0.0);
+  std::vector<double> rounding_inf(no, 0.0), coefficients_inf(no, 0.0);
+  // Rounding: per source, the largest error one step adds times its response's L1 norm.
+  const Contributions rc = contributions(p, f, horizon);
+  r.sources = rc.sources;
+  for (size_t j = 0; j < no; ++j)
+    for (long k = 0; k < rc.truncated.cols(); ++k) {  // in slot order, as a plain sum
+      r.rounding[j] += rc.truncated(static_cast<long>(j), k);
+      rounding_inf[j] += rc.infinite(static_cast<long>(j), k);
+    }
   // Quantised coefficients: the difference of the two programs' impulse responses, as
   // one model with both programs' states side by side.
   const blocks::StateSpace exact = program_state_space(p), quant = program_state_space(f.quantised);

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_support.hpp"
 
 namespace {
@@ -114,6 +116,32 @@ TEST_F(CliContract, CodegenWarnsWhenTheFixedPointBoundExceedsTheOutputRange) {
   const auto w32 = build("32");
   ASSERT_EQ(w32.code, 0) << w32.err;
   EXPECT_EQ(w32.out.find("exceeds the output's range"), std::string::npos) << w32.out;
+}
+
+// Issue 28, row 12: --state-bits chooses the words of a fixed-point program's state
+// update (auto, 16 or 32); anything else is one line and exit 2, before anything is written.
+TEST_F(CliContract, CodegenStateBitsAreCheckedAndReported) {
+  const std::string diagram = std::string(DMBD_SOURCE_DIR) + "/tests/codegen/data/pi_position_loop.yaml";
+  auto codegen = [&](const char* word, const char* state) {
+    return std::vector<std::string>{"codegen", diagram, "--rate", "2000", "--scalar", "fixed", "--word", word,
+                                    "--state-bits", state, "--out", dir_.string()};
+  };
+  expect_one_line_error(codegen("16", "24"), "--state-bits '24': expected auto, 16 or 32");
+  expect_one_line_error(codegen("32", "16"), "--state-bits 16: narrower than the 32-bit word");
+  EXPECT_FALSE(fs::exists(dir_ / "pi_position_loop.hpp"));
+  // 16 bits, every word 16: the bound exceeds the +-100 N m output range, and says so.
+  const auto narrow = run_dmbd(codegen("16", "16"), dir_);
+  ASSERT_EQ(narrow.code, 0) << narrow.err;
+  EXPECT_NE(narrow.out.find("exceeds the output's range (+-100 N m)"), std::string::npos) << narrow.out;
+  // auto: the state in a 32-bit word, listed in the report; no warning.
+  const auto wide = run_dmbd(codegen("16", "auto"), dir_);
+  ASSERT_EQ(wide.code, 0) << wide.err;
+  EXPECT_EQ(wide.out.find("exceeds the output's range"), std::string::npos) << wide.out;
+  const auto report = nlohmann::json::parse(dmbd::cli_testing::slurp(dir_ / "pi_position_loop.report.json"));
+  EXPECT_EQ(report["word_bits"]["word"], 16);
+  EXPECT_EQ(report["word_bits"]["state"], 32);
+  const auto& widened = report["word_bits"]["widened"];
+  EXPECT_NE(std::find(widened.begin(), widened.end(), "PI_s1"), widened.end()) << widened.dump();
 }
 
 }  // namespace

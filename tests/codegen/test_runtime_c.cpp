@@ -44,7 +44,9 @@ struct Result {
 
 enum Op : int64_t {
   kShrRnd32, kShrRnd64, kShlSat32, kShlSat64, kConvert16, kConvert32, kClamp16, kClamp32, kNarrow16, kNarrow32,
-  kMac16, kMac32, kAdd16, kSub16, kAdd32, kSub32, kQuantize16, kQuantize32, kDequantize16, kDequantize32, kNumOps
+  kMac16, kMac32, kAdd16, kSub16, kAdd32, kSub32, kQuantize16, kQuantize32, kDequantize16, kDequantize32,
+  kConvert32To16, kNarrow32To16,  // mixed words: a 16-bit program's 32-bit states
+  kNumOps
 };
 
 const char* const kDriver = R"(#include <stdint.h>
@@ -84,6 +86,8 @@ int main(int argc, char** argv) {
       case 17: r.r = fx_quantize32(k.v, a, &s); break;
       case 18: r.x = fx_dequantize16((int16_t)a, b); break;
       case 19: r.x = fx_dequantize32((int32_t)k.a, b); break;
+      case 20: r.r = fx_convert32_16((int32_t)k.a, b, c, &s); break;
+      case 21: r.r = fx_narrow32_16(k.a, b, c, &s); break;
       default: return 2;
     }
     r.saturations = s;
@@ -125,6 +129,8 @@ Result expected(const Case& k) {
     case kQuantize32: r.r = fx::quantize32(k.v, a, st); break;
     case kDequantize16: r.x = fx::dequantize16(w16(a), b); break;
     case kDequantize32: r.x = fx::dequantize32(w32(k.a), b); break;
+    case kConvert32To16: r.r = fx::convert32_16(w32(k.a), b, c, st); break;
+    case kNarrow32To16: r.r = fx::narrow32_16(k.a, b, c, st); break;
     default: break;
   }
   r.saturations = st.saturations;
@@ -225,6 +231,8 @@ std::vector<Case> cases() {
         case kQuantize16: case kQuantize32: k.v = real(), k.a = shift(-40, 60); break;
         case kDequantize16: k.a = value(16), k.b = shift(-60, 60); break;
         case kDequantize32: k.a = value(32), k.b = shift(-60, 60); break;
+        case kConvert32To16: k.a = value(32), k.b = shift(-40, 60), k.c = shift(-40, 60); break;
+        case kNarrow32To16: k.a = value(64), k.b = shift(-40, 90), k.c = shift(-40, 90); break;
         default: break;
       }
       all.push_back(k);
@@ -260,7 +268,8 @@ TEST(RuntimeC, EveryFunctionMatchesTheCppRuntime) {
     }
   }
   // The cases do reach saturation (and the counter's sticky limit) where a function can saturate.
-  for (int op : {kShlSat32, kShlSat64, kConvert16, kConvert32, kNarrow16, kNarrow32, kQuantize16, kQuantize32})
+  for (int op : {kShlSat32, kShlSat64, kConvert16, kConvert32, kNarrow16, kNarrow32, kQuantize16, kQuantize32,
+                 kConvert32To16, kNarrow32To16})
     EXPECT_GT(saturating[static_cast<size_t>(op)], 100) << "op " << op;
 }
 

@@ -676,6 +676,39 @@ TEST(FixedPoint32, ConvertAddSubMatchExact) {
   EXPECT_EQ(st.saturations, 4u);
 }
 
+// Mixed words (a 16-bit program's 32-bit states): a 32-bit word or a 64-bit accumulator
+// narrowed to a 16-bit word, rounded half up and saturated, counted once.
+TEST(FixedPointMixed, ConvertAndNarrowTo16BitsMatchExact) {
+  Rng rng(12);
+  Mismatches bad;
+  long sats = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    const int32_t a = rng.w32();
+    const int64_t v = rng.word(64) >> rng.uniform_int(0, 63);  // of random magnitude
+    const int qx = rng.uniform_int(-8, 60), qy = rng.uniform_int(-8, 40);
+    Status st = {0};
+    const int16_t y = fx::convert32_16(a, qx, qy, st);
+    const Ref r = ref_scale(a, qx - qy, INT16_MIN, INT16_MAX);
+    if (y != r.value || st.saturations != (r.saturated ? 1u : 0u))
+      bad.add(describe("convert32_16", a, 0, qx, 0, qy, y, r.value));
+    Status st2 = {0};
+    const int16_t z = fx::narrow32_16(v, qx, qy, st2);
+    const Ref rz = ref_scale(v, qx - qy, INT16_MIN, INT16_MAX);
+    if (z != rz.value || st2.saturations != (rz.saturated ? 1u : 0u))
+      bad.add(describe("narrow32_16", v, 0, qx, 0, qy, z, rz.value));
+    sats += r.saturated + rz.saturated;
+  }
+  EXPECT_EQ(bad.count, 0) << bad.first;
+  EXPECT_GT(sats, 1000);
+  Status st = {0};
+  EXPECT_EQ(fx::convert32_16(3 << 16, 18, 1, st), 2);     // 0.75 -> Q1: 1.5 LSB -> 2
+  EXPECT_EQ(fx::convert32_16(-(3 << 16), 18, 1, st), -1); // -1.5 LSB -> -1
+  EXPECT_EQ(fx::narrow32_16(-(INT64_C(1) << 55), 55, 15, st), INT16_MIN);  // -1.0 fits in Q15
+  EXPECT_EQ(fx::narrow32_16(INT64_C(1) << 55, 55, 15, st), INT16_MAX);     // +1.0 does not
+  EXPECT_EQ(fx::narrow32_16(INT64_C(1), 0, 20, st), INT16_MAX);          // an exact left shift that saturates
+  EXPECT_EQ(st.saturations, 2u);
+}
+
 TEST(FixedPoint32, AccumulateThenNarrowEqualsExactRoundedSum) {
   Rng rng(10);
   Mismatches bad;

@@ -29,6 +29,11 @@ struct FixedStatement {
   // terms[0].a clamped to [lo, hi], then converted to the dst format.
   enum class Kind { Sum, Copy, Clamp } kind = Kind::Sum;  // this statement's kind
   int dst = 0;                  // the slot written (index into LoopProgram::slots)
+  // The arithmetic path: 16 (16-bit words, Acc16 = 32-bit accumulator) or 32 (32-bit
+  // words, Acc32 = 64-bit accumulator; 16-bit operands widen exactly). In a 16-bit
+  // program a statement that reads or writes a 32-bit word (FixedProgram::bits) runs on
+  // the 32-bit path, its coefficients quantised to 32-bit words.
+  int bits = 32;
   int qacc = 0;                 // accumulator fractional bits (Sum)
   std::vector<FixedTerm> terms; // Sum; Copy/Clamp use terms[0].a
   // Clamp: the lower limit, a word in the format of the source slot terms[0].a (clamp
@@ -39,12 +44,15 @@ struct FixedStatement {
   bool update = false;          // part of the state update
 };
 
-// A loop program's fixed-point realisation (make_fixed): a signed word of word_bits
-// bits per slot in the Q format q[k] (value = word / 2^q[k]), and the statements that
+// A loop program's fixed-point realisation (make_fixed): a signed word of bits[k] bits
+// per slot (word_bits, or state_bits for the slots widened: states and the signals the
+// state update reads) in the Q format q[k] (value = word / 2^q[k]), and the statements that
 // the fixed-point emitters print and FixedInterpreter runs. Indexed like
 // LoopProgram::slots, valid with the program it was made from.
 struct FixedProgram {
-  int word_bits = 32;            // 16 or 32 (make_fixed refuses any other)
+  int word_bits = 32;            // 16 or 32 (make_fixed refuses any other): inputs, outputs, signals
+  int state_bits = 32;           // the word of widened slots: 32 (a 16-bit program may widen), or word_bits
+  std::vector<int> bits;         // word bits per slot: word_bits, or state_bits where widened
   std::vector<int> q;            // fractional bits per slot
   std::vector<double> bound;     // |value| per slot: guaranteed, or simulated where not
   std::vector<bool> simulated;   // the bound of this slot is simulated (2 x the largest
@@ -114,16 +122,35 @@ struct ErrorBound {
 ErrorBound predicted_error_bound(const LoopProgram& p, const FixedProgram& f,
                                  const std::vector<std::pair<double, double>>& input_ranges, int horizon);
 
+// The rounding term of the bound above, source by source: (outputs x slots) e_s ||g_s||
+// over the first `horizon` steps, 0 for a slot where nothing rounds. What make_fixed
+// reads to decide which words to widen.
+blocks::Matrix rounding_contributions(const LoopProgram& p, const FixedProgram& f, int horizon);
+
+// make_fixed's state_bits: chosen by the analysis (below).
+constexpr int kStateBitsAuto = 0;
+
 // The fixed-point realisation of p in signed words of word_bits bits (16 or 32): every
-// slot's Q format from its bound (slot_bounds, then q_format), every coefficient other
-// than 0 and +-1 quantised to the finest format its word holds (F_c = word_bits - 2 -
-// floor(log2 |c|), rounded to nearest), and the accumulators' formats by the runtime's
-// headroom rule (G). input_ranges as slot_bounds takes them (default [-1, 1]).
-// Slots without a guaranteed bound (a loop closed through a saturation, an integrator)
-// take a simulated one: twice the largest value seen on the verification chirp and
-// step. InputError when even that diverges, or for word_bits other than 16 or 32.
+// slot's Q format from its bound (slot_bounds, then q_format in the slot's word), every
+// coefficient other than 0 and +-1 quantised to the finest format its statement's word
+// holds (F_c = bits - 2 - floor(log2 |c|), rounded to nearest), and the accumulators'
+// formats by the runtime's headroom rule (G). input_ranges as slot_bounds takes them
+// (default [-1, 1]). Slots without a guaranteed bound (a loop closed through a
+// saturation, an integrator) take a simulated one: twice the largest value seen on the
+// verification chirp and step.
+//
+// Wider states (16-bit programs): the candidates are the states and the signals the
+// state update reads (the words of the recursion; never an input or an output, whose
+// words are the interface). state_bits 16: none widened; 32: every candidate in a
+// 32-bit word; kStateBitsAuto: the candidates whose rounding term (rounding_contributions
+// of the all-16-bit program over kVerifySamples steps) exceeds, at some output, half an
+// LSB of that output's format: where errors accumulate beyond the output's own
+// resolution. A 32-bit program keeps every word at 32 bits (state_bits 32 or auto; the
+// runtime has no 128-bit accumulator for 64-bit states). InputError when a bound
+// diverges even on the simulation, for word_bits other than 16 or 32, or for a
+// state_bits other than auto, word_bits or (16-bit programs) 32.
 FixedProgram make_fixed(const LoopProgram& p, const std::vector<std::pair<double, double>>& input_ranges,
-                        int word_bits);
+                        int word_bits, int state_bits = kStateBitsAuto);
 
 // Runs the integer program with the runtime of the generated code, statement for
 // statement, so that it matches the generated fixed-point code bit for bit; step()
