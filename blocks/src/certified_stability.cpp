@@ -30,14 +30,6 @@ bool power_of_two(double x) {
   return x != 0.0 && std::isfinite(x) && std::abs(std::frexp(x, &e)) == 0.5;
 }
 
-bool holds_any(const RootCluster& c, const std::vector<Complex>& poles) {
-  for (const Complex& p : poles)
-    for (int k = 0; k < c.size(); ++k)
-      if (std::abs(p - c.centers[static_cast<size_t>(k)]) <= c.radii[static_cast<size_t>(k)] + 1e-6 * (std::abs(p) + 1.0))
-        return true;
-  return false;
-}
-
 double inf_norm(const Eigen::MatrixXd& m) { return m.rows() == 0 ? 0.0 : m.rowwise().sum().maxCoeff(); }
 
 }  // namespace
@@ -141,7 +133,6 @@ std::vector<RootCluster> enclose_eigenvalues(const Matrix& a) {
 
 void VerdictBuilder::add_clusters(const std::vector<RootCluster>& clusters) {
   for (const RootCluster& c : clusters) {
-    if (restricted_ && !holds_any(c, only_)) continue;
     const Side side = side_of(c, discrete_);
     outside_ = outside_ || side == Side::Outside;
     straddles_ = straddles_ || side == Side::Straddles;

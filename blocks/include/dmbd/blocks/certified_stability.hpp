@@ -32,14 +32,6 @@ class VerdictBuilder {
   // permutation and power-of-two scalings (what StateSpace::from_tf realises, balanced)
   // by its characteristic polynomial, formed exactly; any other by enclose_eigenvalues.
   void add_matrix(const Matrix& a);
-  // Only the transfer's poles count (a state-space model's hidden modes do not): a
-  // certified disc group is skipped when none of `poles` (the transfer's, as computed)
-  // is within its discs widened by 1e-6 (|p| + 1) -- which modes a group holds is
-  // matched, its side is still proven.
-  void count_only(std::vector<Complex> poles) {
-    only_ = std::move(poles);
-    restricted_ = true;
-  }
   // Poles exactly at s = 0 (z = 1) so far.
   int at_boundary_point() const { return at_x0_; }
   // The verdict, `cancelled` of the poles at the boundary point not counted (cancelled
@@ -52,8 +44,6 @@ class VerdictBuilder {
   int at_x0_ = 0;
   bool outside_ = false, straddles_ = false, repeated_edge_ = false;
   std::vector<Polynomial> edge_factors_;  // monic factors with roots exactly on the boundary
-  bool restricted_ = false;
-  std::vector<Complex> only_;
 };
 
 // The verdict of the poles of den = prod factors^multiplicity, `cancelled` of its roots
