@@ -25,6 +25,7 @@ namespace dmbd::blocks {
 // poles only. Stable: every group proven inside.
 class VerdictBuilder {
  public:
+  // Poles in s (discrete false) or in z (discrete true); nothing added yet.
   explicit VerdictBuilder(bool discrete) : discrete_(discrete) {}
   // The roots of p, `multiplicity` times.
   void add_polynomial(const Polynomial& p, int multiplicity = 1);

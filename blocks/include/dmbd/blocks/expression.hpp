@@ -42,7 +42,8 @@ struct Rational {
   // integer power keeps its operands' factors and multiplicities ((s + 1)^20 is s + 1
   // twenty times), a sum is one factor (its expanded numerator); num == expand(num_factors)
   // and den == expand(den_factors) up to rounding. What the roots are computed from.
-  FactorList num_factors, den_factors;
+  FactorList num_factors;
+  FactorList den_factors;  // the denominator's factors, likewise
 };
 
 // A parsed rational expression (grammar above): parse once, evaluate at any parameter

@@ -102,6 +102,7 @@ struct PolynomialFactor {
   Polynomial poly;       // the factor's coefficients (a constant factor has no roots)
   int multiplicity = 1;  // >= 1
 };
+// A product of factors, in the order written.
 using FactorList = std::vector<PolynomialFactor>;
 // The product of the factors (each raised to its multiplicity).
 Polynomial expand(const FactorList& factors);

@@ -13,6 +13,7 @@ namespace dmbd::blocks {
 struct RootCluster {
   std::vector<Complex> centers;  // the refined approximations (doubles, exact)
   std::vector<double> radii;     // proven radii: every root is within one of the discs
+  // The number of roots (and discs) in the cluster.
   int size() const { return static_cast<int>(centers.size()); }
 };
 

@@ -77,11 +77,12 @@ class TransferFunction {
   struct Split {
     Polynomial rest;      // num (den) / (x - x0)^m, leading coefficient unchanged
     int m = 0;            // roots exactly at x0
-    double rest_at_x0 = 0.0;
+    double rest_at_x0 = 0.0;  // rest's value at x0, factor by factor
     FactorList factors;   // rest's factors
   };
+  // The numerator split as above.
   Split split_num() const;
-  Split split_den() const;  // likewise
+  Split split_den() const;  // the denominator, likewise
 
   // Cancel pole/zero pairs closer than tol relative to (1 + |root|). InputError naming
   // 'tol' unless tol is a finite number >= 0.
