@@ -34,7 +34,7 @@ import mpmath
 SEED = 2028
 COUNT = 200
 TS = 0.001
-TIMEOUT_S = 8  # a run that takes longer is reported (not a verdict): see main()
+TIMEOUT_S = 5  # a run that takes longer is reported (not a verdict): see main()
 
 
 def critical_poles(rng, discrete, outside, d, n_left):
