@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <optional>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "dmbd/blocks/error.hpp"
@@ -136,7 +137,15 @@ TransferFunction c2d(const TransferFunction& sys, double ts, C2dMethod method, d
     for (double c : f.poly.coeffs())
       if (!std::isfinite(c)) return g;  // a pole mapped to infinity
   if (expand(den).degree() != g.den().degree()) return g;
-  return g.with_factors({{g.num(), 1}}, den);
+  const TransferFunction gd = g.with_factors({{g.num(), 1}}, den);
+  // ZOH keeps the DC gain exactly; the numerator's coefficients from the matrix
+  // exponential (differences of O(1) numbers at a small ts) carry it only to 1e-5 at
+  // ts = 1e-7: rescaled to it. (Tustin's and backward Euler's come by substitution.)
+  if (method != C2dMethod::Zoh) return gd;
+  const std::optional<double> kc = sys.dc_gain(), kd = gd.dc_gain();
+  if (!kc || !kd || *kc == 0.0 || *kd == 0.0 || !std::isfinite(*kc / *kd)) return gd;
+  const Polynomial num = (*kc / *kd) * g.num();
+  return TransferFunction(num, g.den(), ts).with_factors({{num, 1}}, den);
 }
 
 namespace {

@@ -21,6 +21,11 @@ class CertifiedVerdicts(unittest.TestCase):
 
     def test_a_z_polynomial_5e7_inside_the_circle_is_stable(self):
         # Row 1b: was "marginally stable", a pole at exactly 1, DC gain infinite.
+        gd = dmbd.c2d(dmbd.tf("1/(s^2+10*s+100)"), 1e-7, "zoh")
+        self.assertEqual(dmbd.stability(gd), "stable")
+        self.assertAlmostEqual(dmbd.dc_gain(gd), 0.01, delta=0.01 * 1e-12)
+        for p in dmbd.poles(gd):
+            self.assertAlmostEqual(abs(p), math.exp(-5e-7), delta=1e-15)
         g = dmbd.tf("1/(z^2-1.9999989999994998*z+0.9999990000004998)", ts=1e-7)
         self.assertEqual(dmbd.stability(g), "stable")
         for p in dmbd.poles(g):
