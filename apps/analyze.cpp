@@ -91,7 +91,7 @@ void describe(json& r, const b::Siso& g) {
   r["zeros"] = roots_json(z.is_zero() ? std::vector<b::Complex>{} : z.all_zeros());
   r["hidden_poles"] = roots_json(g.hidden());
   r["dc_gain"] = number(z.dc_gain());
-  const b::Stability st = b::stability(z);
+  const b::Stability st = g.verdict();
   r["stable"] = st == b::Stability::Stable;
   r["stability"] = b::to_string(st);
 }

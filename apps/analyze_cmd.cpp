@@ -104,7 +104,7 @@ System read_tf(const Args& a, const b::ParameterMap& params, double ts) {
   try {
     const b::Expression expr = b::Expression::parse(a.tf);
     const b::Rational r = expr.evaluate_rational(params, s.discrete ? 'z' : 's', true);
-    b::TransferFunction g(r.num, r.den, s.discrete ? ts : 0.0);
+    b::TransferFunction g = b::TransferFunction(r.num, r.den, s.discrete ? ts : 0.0).with_factors(r.num_factors, r.den_factors);
     s.delay_s = r.delay_s;
     if (s.delay_s > 0.0) g = delayed(s, g, ts, a.pade.empty() ? 3 : parse_order(a.pade));
     s.tf = b::Siso::from_tf(g);

@@ -68,7 +68,13 @@ void list_roots(std::ostringstream& o, const char* name, const json& list, char 
       const double wn = std::hypot(re, im);
       if (wn > 0) o << fmt::format("   (|p| = {} rad/s = {} Hz, zeta = {:.4g})", fmt_num(wn), fmt_num(wn / kTwoPi), -re / wn);
     } else {
-      o << fmt::format("   (|z| = {:.6g})", std::hypot(re, im));
+      // Near the circle |z| is shown as its distance from 1 (1 - 5e-07, not 1).
+      const double m = std::hypot(re, im);
+      if (m != 1.0 && std::abs(m - 1.0) < 1e-4) {
+        o << fmt::format("   (|z| = 1 {} {:.3g})", m < 1.0 ? "-" : "+", std::abs(m - 1.0));
+      } else {
+        o << fmt::format("   (|z| = {:.6g})", m);
+      }
     }
     if (n > 1) o << "   x " << n;
     o << "\n";
@@ -112,6 +118,7 @@ void describe_margins(std::ostream& o, const json& r) {
 }
 
 const char* stability_text(const std::string& s) {
+  if (s == "undecided") return "stability undecided at this precision (a pole's certified enclosure straddles the boundary)";
   return s == "stable" ? "stable" : s == "marginal" ? "marginally stable" : "not stable";
 }
 

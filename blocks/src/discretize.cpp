@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <optional>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "dmbd/blocks/error.hpp"
@@ -99,7 +100,57 @@ StateSpace c2d(const StateSpace& sys, double ts, C2dMethod method, double prewar
   throw InputError("unknown discretisation method");
 }
 
+namespace {
+
+// The discrete denominator as the images of the continuous poles, factor by factor: a
+// real pole p gives z - c2d_pole(p), a conjugate pair the real quadratic of its image
+// (|w|^2 from the image itself), a pole at s = 0 the factor z - 1 exactly. The verdict
+// and the poles of the result come from these (0.999999 = e^{-0.01 * 1e-4} stays a pole
+// 1e-6 inside), not from the roots of the rounded z-polynomial.
+FactorList image_factors(const TransferFunction& sys, double ts, C2dMethod method, double prewarp_rad_s) {
+  FactorList out;
+  const TransferFunction::Split d = sys.split_den();
+  if (d.m > 0) out.push_back({Polynomial({-1.0, 1.0}), d.m});
+  for (const PolynomialFactor& f : d.factors) {
+    for (const Complex& p : f.poly.roots()) {
+      if (p.imag() < 0.0) continue;
+      const Complex w = c2d_pole(p, ts, method, prewarp_rad_s);
+      if (p.imag() == 0.0) {
+        out.push_back({Polynomial({-w.real(), 1.0}), f.multiplicity});
+      } else {
+        const double mag2 = method == C2dMethod::Zoh ? std::exp(2.0 * p.real() * ts) : std::norm(w);
+        out.push_back({Polynomial({mag2, -2.0 * w.real(), 1.0}), f.multiplicity});
+      }
+    }
+  }
+  return out;
+}
+
+TransferFunction c2d_by_formula(const TransferFunction& sys, double ts, C2dMethod method, double prewarp_rad_s);
+
+}  // namespace
+
 TransferFunction c2d(const TransferFunction& sys, double ts, C2dMethod method, double prewarp_rad_s) {
+  const TransferFunction g = c2d_by_formula(sys, ts, method, prewarp_rad_s);
+  const FactorList den = image_factors(sys, ts, method, prewarp_rad_s);
+  for (const PolynomialFactor& f : den)
+    for (double c : f.poly.coeffs())
+      if (!std::isfinite(c)) return g;  // a pole mapped to infinity
+  if (expand(den).degree() != g.den().degree()) return g;
+  const TransferFunction gd = g.with_factors({{g.num(), 1}}, den);
+  // ZOH keeps the DC gain exactly; the numerator's coefficients from the matrix
+  // exponential (differences of O(1) numbers at a small ts) carry it only to 1e-5 at
+  // ts = 1e-7: rescaled to it. (Tustin's and backward Euler's come by substitution.)
+  if (method != C2dMethod::Zoh) return gd;
+  const std::optional<double> kc = sys.dc_gain(), kd = gd.dc_gain();
+  if (!kc || !kd || *kc == 0.0 || *kd == 0.0 || !std::isfinite(*kc / *kd)) return gd;
+  const Polynomial num = (*kc / *kd) * g.num();
+  return TransferFunction(num, g.den(), ts).with_factors({{num, 1}}, den);
+}
+
+namespace {
+
+TransferFunction c2d_by_formula(const TransferFunction& sys, double ts, C2dMethod method, double prewarp_rad_s) {
   check_ts(ts);
   if (sys.is_discrete()) throw InputError("c2d: the system is already discrete");
   if (!sys.is_proper()) throw InputError("c2d: an improper transfer function cannot be discretised");
@@ -122,6 +173,8 @@ TransferFunction c2d(const TransferFunction& sys, double ts, C2dMethod method, d
   }
   throw InputError("unknown discretisation method");
 }
+
+}  // namespace
 
 StateSpace d2c(const StateSpace& sys, C2dMethod method, double prewarp_rad_s) {
   if (!sys.is_discrete()) throw InputError("d2c: the system is already continuous");

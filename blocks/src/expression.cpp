@@ -263,7 +263,43 @@ class Parser {
 
 bool is_constant(const Rational& r) { return r.num.degree() <= 0 && r.den.degree() == 0; }
 double constant_value(const Rational& r) { return r.num[0] / r.den[0]; }
-Rational constant(double v) { return {Polynomial::constant(v), Polynomial::constant(1.0)}; }
+// num/den, each its own single factor.
+Rational whole(Polynomial num, Polynomial den, double delay_s = 0.0) {
+  Rational r{std::move(num), std::move(den), delay_s, {}, {}};
+  r.num_factors = {{r.num, 1}};
+  r.den_factors = {{r.den, 1}};
+  return r;
+}
+Rational constant(double v) { return whole(Polynomial::constant(v), Polynomial::constant(1.0)); }
+// The factors a and b together, equal factors (exactly equal coefficients) merged.
+FactorList joined(const FactorList& a, const FactorList& b, int power_b = 1) {
+  FactorList out = a;
+  for (const PolynomialFactor& f : b) {
+    if (f.poly.degree() < 1) {
+      out.push_back({f.poly.pow(f.multiplicity * power_b), 1});
+      continue;
+    }
+    auto it = std::find_if(out.begin(), out.end(), [&f](const PolynomialFactor& g) { return g.poly == f.poly; });
+    if (it != out.end()) {
+      it->multiplicity += f.multiplicity * power_b;
+    } else {
+      out.push_back({f.poly, f.multiplicity * power_b});
+    }
+  }
+  return out;
+}
+// Each factor's multiplicity times k >= 1 (a constant factor raised to the power).
+FactorList powered(const FactorList& a, int k) {
+  FactorList out;
+  for (const PolynomialFactor& f : a) {
+    if (f.poly.degree() < 1) {
+      out.push_back({f.poly.pow(f.multiplicity * k), 1});
+    } else {
+      out.push_back({f.poly, f.multiplicity * k});
+    }
+  }
+  return out;
+}
 
 struct Evaluator {
   const ParameterMap& params;
@@ -298,19 +334,27 @@ struct Evaluator {
   Rational add(const Rational& a, const Rational& b, double sign, int column) const {
     const double delay = shared_delay(a, b, column);
     if (is_constant(a) && is_constant(b)) return delayed(constant(constant_value(a) + sign * constant_value(b)), delay);
-    if (a.den == b.den) return {a.num + sign * b.num, a.den, delay};
-    return {times(a.num, b.den, column) + sign * times(b.num, a.den, column), times(a.den, b.den, column), delay};
+    if (a.den == b.den) {
+      Rational r = whole(a.num + sign * b.num, a.den, delay);
+      r.den_factors = a.den_factors;
+      return r;
+    }
+    Rational r = whole(times(a.num, b.den, column) + sign * times(b.num, a.den, column), times(a.den, b.den, column), delay);
+    r.den_factors = joined(a.den_factors, b.den_factors);
+    return r;
   }
   Rational mul(const Rational& a, const Rational& b, int column) const {
     const double delay = a.delay_s + b.delay_s;
     if (is_constant(a) && is_constant(b)) return delayed(constant(constant_value(a) * constant_value(b)), delay);
-    return {times(a.num, b.num, column), times(a.den, b.den, column), delay};
+    return {times(a.num, b.num, column), times(a.den, b.den, column), delay, joined(a.num_factors, b.num_factors),
+            joined(a.den_factors, b.den_factors)};
   }
   Rational div(const Rational& a, const Rational& b, int column) const {
     if (b.num.is_zero()) fail("division by zero", column);
     const double delay = a.delay_s - b.delay_s;
     if (is_constant(a) && is_constant(b)) return delayed(constant(constant_value(a) / constant_value(b)), delay);
-    return {times(a.num, b.den, column), times(a.den, b.num, column), delay};
+    return {times(a.num, b.den, column), times(a.den, b.num, column), delay, joined(a.num_factors, b.den_factors),
+            joined(a.den_factors, b.num_factors)};
   }
   static Rational delayed(Rational r, double delay_s) {
     r.delay_s = delay_s;
@@ -325,7 +369,9 @@ struct Evaluator {
         return name(n);
       case Node::Kind::Negate: {
         Rational r = eval(*n.args[0]);
-        return {-r.num, r.den, r.delay_s};
+        r.num = -r.num;
+        r.num_factors.push_back({Polynomial::constant(-1.0), 1});
+        return r;
       }
       case Node::Kind::Sum:
       case Node::Kind::Product:
@@ -345,7 +391,7 @@ struct Evaluator {
         fail(quote(n.name) + " in a " + (variable == 's' ? "continuous-time expression (use s, or give a sample time for z)"
                                                           : "discrete-time expression (use z)"),
              n.column);
-      return {Polynomial({0.0, 1.0}), Polynomial::constant(1.0)};
+      return whole(Polynomial({0.0, 1.0}), Polynomial::constant(1.0));
     }
     if (auto it = params.find(n.name); it != params.end()) {
       if (!std::isfinite(it->second)) fail("parameter " + quote(n.name) + " is not finite", n.column);
@@ -397,9 +443,10 @@ struct Evaluator {
            n.args[1]->column);
     const int k = static_cast<int>(e);
     check_degree(std::max(base.num.degree(), base.den.degree()) * std::abs(k), n.column);
-    if (k >= 0) return {base.num.pow(k), base.den.pow(k)};
+    if (k == 0) return constant(1.0);
+    if (k > 0) return {base.num.pow(k), base.den.pow(k), 0.0, powered(base.num_factors, k), powered(base.den_factors, k)};
     if (base.num.is_zero()) fail("division by zero", n.column);
-    return {base.den.pow(-k), base.num.pow(-k)};
+    return {base.den.pow(-k), base.num.pow(-k), 0.0, powered(base.den_factors, -k), powered(base.num_factors, -k)};
   }
 
   // exp(-s*T): the delay e^{-sT} (T >= 0 seconds), with a gain e^c for exp(c - s*T).

@@ -78,6 +78,12 @@ std::pair<Polynomial, int> Polynomial::without_root(double x0) const {
   return {p, m};
 }
 
+Polynomial expand(const FactorList& factors) {
+  Polynomial r = Polynomial::constant(1.0);
+  for (const PolynomialFactor& f : factors) r = r * f.poly.pow(f.multiplicity);
+  return r;
+}
+
 double Polynomial::operator()(double x) const {
   double v = 0.0;
   for (auto it = c_.rbegin(); it != c_.rend(); ++it) v = v * x + *it;

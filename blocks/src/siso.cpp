@@ -15,11 +15,10 @@
 #include <limits>
 #include <string>
 
+#include "dmbd/blocks/certified_stability.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/siso.hpp"
-
-#include "dmbd/blocks/frequency.hpp"
 
 namespace dmbd::blocks {
 
@@ -250,6 +249,20 @@ Zpk series_product(const Chain& ch, const std::vector<Cut>& cuts, std::vector<Co
   return z.zeros().empty() ? z : z.cancelled(Siso::kCancelTolerance, &hidden);
 }
 
+// The verdict from the blocks of the groups the input reaches and the output sees
+// (decided by the structure alone), each exactly as the model has it (VerdictBuilder).
+// Every mode of those groups counts: a mode that the rank test of minimal() or a
+// cancellation within 1e-7 takes out of the transfer is hidden by a tolerance, which
+// cannot prove it away (a badly scaled companion of order 5 loses every mode to that
+// test). Poles at the boundary point: as the blocks have them, less those the factored
+// transfer cancels exactly there.
+Stability certified_verdict(const Zpk& z, const std::vector<Matrix>& blocks, bool discrete) {
+  VerdictBuilder v(discrete);
+  for (const Matrix& a : blocks) v.add_matrix(a);
+  const int seen_at_x0 = z.is_zero() ? v.at_boundary_point() : std::max(0, -z.m());
+  return v.verdict(std::max(0, v.at_boundary_point() - seen_at_x0));
+}
+
 }  // namespace
 
 Zpk zpk_by_interpolation(const StateSpace& sys, const std::vector<Complex>& poles) {
@@ -280,14 +293,18 @@ Siso Siso::from_tf(const TransferFunction& g) {
   s.coefficients_are_data_ = true;
   s.modes_ = g.poles();
   const double x0 = g.is_discrete() ? 1.0 : 0.0;
-  const auto [n, mn] = g.num().without_root(x0);
-  const auto [d, md] = g.den().without_root(x0);
+  const TransferFunction::Split n = g.split_num(), d = g.split_den();
+  const int mn = n.m, md = d.m;
   const int common = g.num().is_zero() ? 0 : std::min(mn, md);
   s.hidden_.assign(static_cast<size_t>(common), Complex(x0, 0.0));
+  s.verdict_ = certified_stability(g);
   if (g.is_proper()) {
     const Polynomial root({-x0, 1.0});
+    FactorList nf = n.factors, df = d.factors;
+    if (mn > common) nf.push_back({root, mn - common});
+    if (md > common) df.push_back({root, md - common});
     const TransferFunction reduced =
-        common == 0 ? g : TransferFunction(n * root.pow(mn - common), d * root.pow(md - common), g.ts());
+        common == 0 ? g : TransferFunction(n.rest * root.pow(mn - common), d.rest * root.pow(md - common), g.ts()).with_factors(nf, df);
     s.realisation_ = SparseStateSpace(StateSpace::from_tf(reduced));
   }
   return s;
@@ -306,6 +323,7 @@ Siso Siso::minreal(double rel_tol, std::vector<Complex>* removed) const {
   s.tf_ = reduced.to_tf();
   s.coefficients_are_data_ = false;
   s.dense_.reset();
+  s.verdict_ = stability(reduced);
   s.realisation_.reset();
   if (s.tf_ && s.tf_->is_proper()) s.realisation_ = SparseStateSpace(StateSpace::from_tf(*s.tf_));
   if (removed) *removed = gone;
@@ -321,10 +339,12 @@ Siso Siso::from_state_space(const SparseStateSpace& sys) {
   const std::vector<std::vector<int>> groups = sys.groups();
   const std::vector<bool> keep = relevant_groups(sys, groups);
   std::vector<int> kept, sizes;
+  std::vector<Matrix> kept_blocks;  // for the certified verdict
   for (size_t g = 0; g < groups.size(); ++g) {
     if (keep[g]) {
       kept.insert(kept.end(), groups[g].begin(), groups[g].end());
       sizes.push_back(static_cast<int>(groups[g].size()));
+      kept_blocks.push_back(dense_block(sys.a(), groups[g], groups[g]));
     } else {
       const std::vector<Complex> ev = group_eigenvalues(dense_block(sys.a(), groups[g], groups[g]), sys.is_discrete());
       out.hidden_.insert(out.hidden_.end(), ev.begin(), ev.end());
@@ -337,6 +357,7 @@ Siso Siso::from_state_space(const SparseStateSpace& sys) {
   out.zpk_ = series_product(ch, cuts, out.hidden_);
   if (out.zpk_.is_zero()) out.hidden_ = out.modes_;
   out.tf_ = out.zpk_.to_tf();
+  out.verdict_ = certified_verdict(out.zpk_, kept_blocks, sys.is_discrete());
   out.realisation_ = r.balanced();
   if (r.num_states() <= kExactStates) out.dense_ = out.realisation_->dense();
   sort_roots(out.hidden_);
@@ -350,7 +371,7 @@ Siso::Step Siso::step(double t_end, int n) const {
                      ")");
   const SparseStep st(*realisation_, t_end, n);
   Step out{st.response(), {}};
-  if (stability(zpk_) != Stability::Stable) return out;
+  if (verdict_ != Stability::Stable) return out;
   std::vector<double> y(out.response.t.size());
   for (size_t k = 0; k < y.size(); ++k) y[k] = out.response.y(static_cast<Eigen::Index>(k), 0);
   std::function<double(double)> y_at;

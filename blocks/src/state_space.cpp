@@ -7,7 +7,9 @@
 #include <cmath>
 #include <string>
 
+#include "dmbd/blocks/certified_stability.hpp"
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/blocks/root_enclosure.hpp"
 #include "tolerance.hpp"
 
 namespace dmbd::blocks {
@@ -73,7 +75,9 @@ StateSpace StateSpace::from_tf(const TransferFunction& tf) {
   // den = (x - x0)^k q: q(x) eta = u in controllable canonical form (states eta^(r-1) ..
   // eta), then zeta_j = eta / (x - x0)^j through k states with A(j, j) = x0 exactly.
   const double x0 = tf.is_discrete() ? 1.0 : 0.0;
-  const auto [q, k] = tf.den().without_root(x0);  // q monic, as den
+  const TransferFunction::Split split = tf.split_den();  // exact roots at x0, factor by factor
+  const Polynomial& q = split.rest;                       // monic, as den
+  const int k = split.m;
   const int r = q.degree(), n = r + k;
   // num = (x - x0)^k beta + sum_j alpha_j (x - x0)^j (Taylor coefficients at x0), so
   // y = num xi = beta(x) eta + sum_j alpha_j zeta_(k-j), xi = zeta_k.
@@ -460,6 +464,17 @@ std::vector<Complex> group_eigenvalues(const Matrix& block, bool discrete) {
   const auto n = block.rows();
   if (n == 0) return {};
   if (n == 1) return {Complex(block(0, 0), 0.0)};
+  if (const std::optional<Polynomial> p = companion_polynomial(block)) {
+    // A transfer function's realisation: the roots of its exact characteristic
+    // polynomial, those at the boundary point only when exactly there (no tolerance).
+    const double x0 = discrete ? 1.0 : 0.0;
+    const int m = exact_roots_at(*p, x0);
+    std::vector<Complex> ev = deflated(*p, x0, m).roots();
+    for (Complex& z : ev)
+      if (z == Complex(x0, 0.0)) z = Complex(std::nextafter(x0, -1.0), 0.0);  // rounded onto it: not exactly there
+    ev.insert(ev.end(), static_cast<size_t>(m), Complex(x0, 0.0));
+    return ev;
+  }
   const Vector d = balancing_scales(block);
   const Matrix bal = d.cwiseInverse().asDiagonal() * block * d.asDiagonal();
   Eigen::EigenSolver<Matrix> es(bal, false);

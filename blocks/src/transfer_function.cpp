@@ -6,6 +6,8 @@
 #include <string>
 
 #include "dmbd/blocks/error.hpp"
+#include "dmbd/blocks/certified_stability.hpp"
+#include "dmbd/blocks/root_enclosure.hpp"
 #include "tolerance.hpp"
 
 namespace dmbd::blocks {
@@ -51,36 +53,65 @@ TransferFunction TransferFunction::parse(std::string_view expression, const Para
   const Expression e = Expression::parse(expression);
   if (!(ts >= 0.0) || !std::isfinite(ts)) throw InputError("sample time must be a finite number >= 0");
   const Rational r = e.evaluate_rational(params, ts > 0.0 ? 'z' : 's');
-  return TransferFunction(r.num, r.den, ts);
+  return TransferFunction(r.num, r.den, ts).with_factors(r.num_factors, r.den_factors);
 }
+
+TransferFunction TransferFunction::with_factors(FactorList num, FactorList den) const {
+  TransferFunction g = *this;
+  g.has_factors_ = true;
+  g.num_f_ = std::move(num);
+  g.den_f_ = std::move(den);
+  return g;
+}
+
+// Each factor without its exact roots at x0; the value of the rest at x0 as the product
+// of the factors' values (long double: a chain of factors neither overflows nor cancels),
+// scaled to full's leading coefficient.
+TransferFunction::Split TransferFunction::split(const Polynomial& full, const FactorList& factors) const {
+  const double x0 = is_discrete() ? 1.0 : 0.0;
+  Split out;
+  if (full.is_zero()) return out;
+  long double value = full.leading();
+  for (const PolynomialFactor& f : factors) {
+    if (f.poly.is_zero()) continue;
+    const int m = exact_roots_at(f.poly, x0);
+    const Polynomial rest = deflated(f.poly, x0, m);
+    out.m += m * f.multiplicity;
+    for (int k = 0; k < f.multiplicity; ++k) value *= static_cast<long double>(rest(x0)) / rest.leading();
+    out.factors.push_back({rest, f.multiplicity});
+  }
+  const Polynomial r = expand(out.factors);
+  out.rest = (full.leading() / r.leading()) * r;
+  out.rest_at_x0 = static_cast<double>(value);
+  return out;
+}
+
+TransferFunction::Split TransferFunction::split_num() const { return split(num_, num_factors()); }
+TransferFunction::Split TransferFunction::split_den() const { return split(den_, den_factors()); }
 
 std::optional<double> TransferFunction::dc_gain() const {
-  const double x0 = is_discrete() ? 1.0 : 0.0;
   if (num_.is_zero()) return 0.0;
-  const auto [n, mn] = num_.without_root(x0);
-  const auto [d, md] = den_.without_root(x0);
-  if (md > mn) return std::nullopt;
-  if (mn > md) return 0.0;
-  return n(x0) / d(x0);
+  const Split n = split_num(), d = split_den();
+  if (d.m > n.m) return std::nullopt;
+  if (n.m > d.m) return 0.0;
+  return n.rest_at_x0 / d.rest_at_x0;
 }
 
-std::vector<Complex> TransferFunction::roots_of(const Polynomial& p) const {
+std::vector<Complex> TransferFunction::roots_of(const Split& s) const {
   const double x0 = is_discrete() ? 1.0 : 0.0;
-  const auto [q, k] = p.without_root(x0);
-  std::vector<Complex> r = q.roots();
-  r.insert(r.end(), static_cast<size_t>(k), Complex(x0, 0.0));
+  std::vector<Complex> r;
+  for (const PolynomialFactor& f : s.factors) {
+    const std::vector<Complex> fr = f.poly.roots();
+    for (int k = 0; k < f.multiplicity; ++k) r.insert(r.end(), fr.begin(), fr.end());
+  }
+  r.insert(r.end(), static_cast<size_t>(s.m), Complex(x0, 0.0));
   std::sort(r.begin(), r.end(), [](const Complex& a, const Complex& b) {
     return a.real() != b.real() ? a.real() < b.real() : a.imag() < b.imag();
   });
   return r;
 }
 
-bool TransferFunction::is_stable() const {
-  for (const Complex& p : poles()) {
-    if (is_discrete() ? !(std::abs(p) < 1.0) : !(p.real() < 0.0)) return false;
-  }
-  return true;
-}
+bool TransferFunction::is_stable() const { return certified_stability(*this) == Stability::Stable; }
 
 TransferFunction TransferFunction::minreal(double tol) const {
   require_tolerance(tol, "minreal");
@@ -113,7 +144,12 @@ TransferFunction TransferFunction::minreal(double tol) const {
 
 TransferFunction operator*(const TransferFunction& a, const TransferFunction& b) {
   require_same_ts(a.ts_, b.ts_, "series connection");
-  return TransferFunction(a.num_ * b.num_, a.den_ * b.den_, a.ts_);
+  const TransferFunction g(a.num_ * b.num_, a.den_ * b.den_, a.ts_);
+  if (!a.has_factors_ && !b.has_factors_) return g;
+  FactorList num = a.num_factors(), den = a.den_factors();
+  for (const PolynomialFactor& f : b.num_factors()) num.push_back(f);
+  for (const PolynomialFactor& f : b.den_factors()) den.push_back(f);
+  return g.with_factors(std::move(num), std::move(den));
 }
 
 TransferFunction operator+(const TransferFunction& a, const TransferFunction& b) {

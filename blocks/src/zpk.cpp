@@ -83,12 +83,29 @@ Zpk::Zpk(double k, int m, std::vector<Complex> zeros, std::vector<Complex> poles
     }
 }
 
+namespace {
+
+// The roots of the factors (each repeated by its multiplicity). A root that rounds to
+// exactly the boundary point although the coefficients have none there (they were
+// removed exactly) is the nearest double beside it: Zpk keeps boundary roots in m only.
+std::vector<Complex> factor_roots(const FactorList& factors, double x0) {
+  std::vector<Complex> out;
+  for (const PolynomialFactor& f : factors) {
+    std::vector<Complex> r = f.poly.roots();
+    for (Complex& z : r)
+      if (z == Complex(x0, 0.0)) z = Complex(std::nextafter(x0, -1.0), 0.0);
+    for (int k = 0; k < f.multiplicity; ++k) out.insert(out.end(), r.begin(), r.end());
+  }
+  return out;
+}
+
+}  // namespace
+
 Zpk Zpk::from_tf(const TransferFunction& g) {
   if (g.num().is_zero()) return Zpk(0.0, 0, {}, {}, g.ts());
   const double x0 = g.is_discrete() ? 1.0 : 0.0;
-  const auto [n, mn] = g.num().without_root(x0);
-  const auto [d, md] = g.den().without_root(x0);
-  return Zpk(n(x0) / d(x0), mn - md, n.roots(), d.roots(), g.ts());
+  const TransferFunction::Split n = g.split_num(), d = g.split_den();
+  return Zpk(n.rest_at_x0 / d.rest_at_x0, n.m - d.m, factor_roots(n.factors, x0), factor_roots(d.factors, x0), g.ts());
 }
 
 std::vector<Complex> Zpk::all_poles() const {
@@ -224,6 +241,7 @@ const char* to_string(Stability s) {
     case Stability::Stable: return "stable";
     case Stability::Marginal: return "marginal";
     case Stability::Unstable: return "unstable";
+    case Stability::Undecided: return "undecided";
   }
   return "?";
 }

@@ -535,7 +535,7 @@ class Loader {
             const b::Expression expr = parsed_.expression(e.Scalar());
             if (uses_broken_parameter(expr)) return;
             const b::Rational r = expr.evaluate_rational(d_->parameters_, d_->is_discrete() ? 'z' : 's');
-            set_tf(bl, b::TransferFunction(r.num, r.den, ts), e);
+            set_tf(bl, b::TransferFunction(r.num, r.den, ts).with_factors(r.num_factors, r.den_factors), e);
           } catch (const b::ExpressionError& x) {
             error(where(e, x.column() - 1), "block '" + bl.name + "': " + b::without_column(x.what()));
           } catch (const InputError& x) {

@@ -11,6 +11,7 @@
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/blocks/exact_frequency.hpp"
+#include "dmbd/blocks/certified_stability.hpp"
 #include "dmbd/blocks/frequency.hpp"
 #include "dmbd/blocks/siso.hpp"
 #include "dmbd/blocks/zpk.hpp"
@@ -50,6 +51,11 @@ std::vector<b::Complex> poles(const py::object& sys) {
 }
 
 bool discrete(const py::object& sys) { return sample_time(sys) > 0.0; }
+
+std::string stability(const py::object& sys) {
+  if (is_tf_like(sys)) return b::to_string(b::certified_stability(as_tf(sys)));
+  return b::to_string(b::stability(poles(sys), discrete(sys)));
+}
 
 py::object zeros(const py::object& sys) {
   if (is_tf_like(sys)) return to_array(as_tf(sys).zeros());
@@ -150,10 +156,11 @@ TransferFunction's denominator, the eigenvalues of a StateSpace's A.)doc");
 The zeros (complex array): the roots of a TransferFunction's numerator; of a SISO
 StateSpace, the zeros of its transfer as `dmbd analyze` finds them (modes it does not
 see left out).)doc");
-  m.def("stability", [](const py::object& sys) { return std::string(b::to_string(b::stability(poles(sys), discrete(sys)))); },
-        "sys"_a, R"doc(
+  m.def("stability", &stability, "sys"_a, R"doc(
 "stable" (every pole with Re s < 0, |z| < 1), "marginal" (none outside, those on the
-boundary simple) or "unstable", over every pole (as poles()).)doc");
+boundary simple) or "unstable", over every pole (as poles()). For a TransferFunction the
+verdict is certified on its coefficients (and factors) exactly as given: "undecided"
+when a pole's proven enclosure straddles the boundary (docs/analyze.md).)doc");
   m.def("freqresp", &freqresp, "sys"_a, "w"_a, R"doc(
 The frequency response at w (rad/s): a complex array; for a StateSpace with several
 inputs or outputs, an array of shape (len(w), outputs, inputs).)doc");

@@ -38,6 +38,12 @@ struct Rational {
   // A dead time: the function is e^{-s delay_s} num/den (seconds, >= 0). Only
   // evaluate_rational with allow_delay sets it, from factors exp(-s*T).
   double delay_s = 0.0;
+  // num and den as the products of their factors as written: a product, quotient or
+  // integer power keeps its operands' factors and multiplicities ((s + 1)^20 is s + 1
+  // twenty times), a sum is one factor (its expanded numerator); num == expand(num_factors)
+  // and den == expand(den_factors) up to rounding. What the roots are computed from.
+  FactorList num_factors;
+  FactorList den_factors;  // the denominator's factors, likewise
 };
 
 // A parsed rational expression (grammar above): parse once, evaluate at any parameter

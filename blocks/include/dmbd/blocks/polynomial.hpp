@@ -43,9 +43,12 @@ class Polynomial {
   double leading() const { return c_.empty() ? 0.0 : c_.back(); }
   // Number of roots at exactly zero (trailing zero coefficients).
   int zero_roots() const;
-  // Whether x0 is a root, judged against the rounding error of evaluating p there.
+  // Whether x0 is a root, judged against the rounding error of evaluating p there
+  // (|p(x0)| <= 1e-12 sum |c_k x0^k|). A numerical convenience for placing roots (second-
+  // order sections); poles, zeros and stability verdicts use exact_roots_at
+  // (root_enclosure.hpp) instead, which has no tolerance.
   bool has_root_at(double x0) const;
-  // p with every root at x0 divided out, and how many there were.
+  // p with every root at x0 (as has_root_at decides) divided out, and how many there were.
   std::pair<Polynomial, int> without_root(double x0) const;
 
   // p(x) by Horner's rule.
@@ -91,5 +94,17 @@ class Polynomial {
   void strip();
   std::vector<double> c_;
 };
+
+// A polynomial kept as the product of its factors as written (an expression's
+// (s + 1)^20 is the factor s + 1 with multiplicity 20): the roots of each factor are the
+// roots of the product, exactly, without forming (and rounding) its coefficients.
+struct PolynomialFactor {
+  Polynomial poly;       // the factor's coefficients (a constant factor has no roots)
+  int multiplicity = 1;  // >= 1
+};
+// A product of factors, in the order written.
+using FactorList = std::vector<PolynomialFactor>;
+// The product of the factors (each raised to its multiplicity).
+Polynomial expand(const FactorList& factors);
 
 }  // namespace dmbd::blocks

@@ -54,6 +54,11 @@ class Siso {
   // the reduced transfer (none when its coefficients overflow). InputError for
   // rel_tol < 0 or not finite.
   Siso minreal(double rel_tol, std::vector<Complex>* removed = nullptr) const;
+  // The stability verdict of the transfer's poles: from a transfer function, certified
+  // (certified_stability: its factors and double coefficients as given, "undecided"
+  // where an enclosure straddles the boundary); from a state-space model, the verdict
+  // of zpk()'s poles (blocks::stability).
+  Stability verdict() const { return verdict_; }
   // Number of series factors (1 for a TF).
   int factors() const { return factors_; }
   // The states the transfer sees, balanced; empty for an improper TF.
@@ -89,6 +94,7 @@ class Siso {
   std::optional<TransferFunction> tf_;
   std::vector<Complex> modes_, hidden_;
   int factors_ = 1;
+  Stability verdict_ = Stability::Stable;
   std::optional<SparseStateSpace> realisation_;
   bool coefficients_are_data_ = false;  // from_tf: tf_ is what was given
   std::optional<StateSpace> dense_;     // from_state_space, small: the realisation

@@ -47,18 +47,42 @@ class TransferFunction {
   // deg num < deg den: no direct feedthrough (D = 0).
   bool is_strictly_proper() const { return num_.degree() < den_.degree(); }
 
-  // Roots of den (of num); those at s = 0 (z = 1), as Polynomial::without_root decides
-  // them, come out exactly 0 (1).
-  std::vector<Complex> poles() const { return roots_of(den_); }
-  std::vector<Complex> zeros() const { return roots_of(num_); }  // the same for num
+  // Roots of den (of num), factor by factor when the factors are known (with_factors);
+  // those at s = 0 (z = 1), exactly there (Polynomial::without_root, or a factor s,
+  // z - 1), come out exactly 0 (1).
+  std::vector<Complex> poles() const { return roots_of(split_den()); }
+  std::vector<Complex> zeros() const { return roots_of(split_num()); }  // the same for num
   // Value at s = 0 (continuous) or z = 1 (discrete); nullopt when infinite (a pole
   // there that no zero cancels). 0/0 from a common root is resolved by cancelling it.
   std::optional<double> dc_gain() const;
   // num(x)/den(x) at a complex point x: s = jw (continuous) or z = e^{jw ts} (discrete).
   // No cancellation: a pole at x gives an infinite or NaN value.
   Complex evaluate(Complex x) const { return num_(x) / den_(x); }
-  // Continuous: all poles with Re < 0. Discrete: all poles with |z| < 1.
+  // The certified verdict (certified_stability.hpp) is "stable": every pole proven
+  // strictly inside (Re s < 0, |z| < 1). False when unstable, marginal or undecided.
   bool is_stable() const;
+
+  // The same transfer, its numerator and denominator known as products of factors (an
+  // expression's factors as written, or the images of continuous poles under c2d): the
+  // roots, the roots at the boundary point and the stability verdict are then taken
+  // factor by factor, exactly as written. The caller promises that expand(num) and
+  // expand(den) are num() and den() up to one common constant factor and rounding.
+  TransferFunction with_factors(FactorList num, FactorList den) const;
+  // The factors (with_factors), or the polynomial itself as one factor.
+  FactorList num_factors() const { return has_factors_ ? num_f_ : FactorList{{num_, 1}}; }
+  FactorList den_factors() const { return has_factors_ ? den_f_ : FactorList{{den_, 1}}; }  // likewise
+  // num (den) without its roots exactly at the boundary point s = 0 (z = 1), counted in
+  // `m`, and the value of the rest there, computed factor by factor (1 - 0.999999 is
+  // exact, where the expanded polynomial's value at 1 would cancel).
+  struct Split {
+    Polynomial rest;      // num (den) / (x - x0)^m, leading coefficient unchanged
+    int m = 0;            // roots exactly at x0
+    double rest_at_x0 = 0.0;  // rest's value at x0, factor by factor
+    FactorList factors;   // rest's factors
+  };
+  // The numerator split as above.
+  Split split_num() const;
+  Split split_den() const;  // the denominator, likewise
 
   // Cancel pole/zero pairs closer than tol relative to (1 + |root|). InputError naming
   // 'tol' unless tol is a finite number >= 0.
@@ -78,8 +102,11 @@ class TransferFunction {
   TransferFunction pow(int n) const;
 
  private:
-  std::vector<Complex> roots_of(const Polynomial& p) const;
+  std::vector<Complex> roots_of(const Split& s) const;
+  Split split(const Polynomial& full, const FactorList& factors) const;
   Polynomial num_, den_;
+  bool has_factors_ = false;
+  FactorList num_f_, den_f_;
   double ts_ = 0.0;
 };
 

@@ -99,8 +99,10 @@ std::optional<double> bandwidth(const Zpk& g, double drop_db = -3.0);
 // A pole is on the boundary when it is exactly at s = 0 (z = 1), or within 1e-9 of the
 // imaginary axis relative to |s| (of the unit circle); two such poles within 1e-6
 // relative are one repeated pole.
-enum class Stability { Stable, Marginal, Unstable };
-// "stable", "marginal", "unstable" (the JSON reports' words).
+// Undecided: the certified enclosure of some pole straddles the boundary and none is
+// proven outside (certified_stability.hpp); this list-of-poles verdict never says it.
+enum class Stability { Stable, Marginal, Unstable, Undecided };
+// "stable", "marginal", "unstable", "undecided" (the JSON reports' words).
 const char* to_string(Stability s);
 // The verdict above for poles in s (discrete false) or in z (discrete true).
 Stability stability(const std::vector<Complex>& poles, bool discrete);
