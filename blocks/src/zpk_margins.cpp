@@ -40,6 +40,15 @@ struct Levels {
     for (double k = std::ceil((lo - base) / period); base + k * period <= hi; k += 1.0) out.push_back(base + k * period);
     return out;
   }
+  // Whether a level lies in [lo, hi], in constant time: a bound on f's band can span
+  // 1e12 periods next to a root near the unit circle, where listing them ran out of
+  // memory (issue 28: dmbd analyze hung on such discrete transfers).
+  bool any_within(double lo, double hi) const {
+    if (!(lo <= hi)) return false;
+    if (period == 0.0) return lo <= base && base <= hi;
+    if (!std::isfinite(lo) || !std::isfinite(hi)) return true;
+    return base + std::ceil((lo - base) / period) * period <= hi;
+  }
 };
 
 struct Part {
@@ -160,7 +169,7 @@ std::vector<double> middle_crossings(const Part& f, const Levels& lv, double lo,
     if (finite && bounded) {
       if (s.lo == 0.0 && s.hi == 0.0) continue;  // f constant: it crosses nothing
       const Range band = value_range(iv.a, iv.b, iv.fa, iv.fb, s);
-      if (lv.within(band.lo, band.hi).empty()) continue;
+      if (!lv.any_within(band.lo, band.hi)) continue;
     }
     const bool monotone = finite && bounded && (s.lo > 0.0 || s.hi < 0.0);
     if (monotone || tiny || ++splits > kMaxSplits) {

@@ -70,3 +70,30 @@ TEST(ExactFrequency, DiagramRealisationIsTheExactResponse) {
 
 }  // namespace
 }  // namespace dmbd::blocks
+
+namespace dmbd::blocks {
+namespace {
+
+// A discrete loop with poles 1e-3..1e-2 from the unit circle: margins() listed every
+// multiple of 2π inside a slope bound that reached ±inf there and never returned (issue
+// 28's random-systems check: 47 of 200 runs). Each crossing it reports now is one.
+TEST(ExactFrequency, PolesNearTheUnitCircleDoNotStallTheCrossingSearch) {
+  const TransferFunction g = TransferFunction::parse(
+      "1/(z^4 + (-2.557769160204915)*z^3 + (3.4293130399681955)*z^2 + (-2.334047322635506)*z + (0.8074531587703119))",
+      {}, 0.001);
+  const Siso s = Siso::from_tf(g);
+  const Margins m = margins(s.zpk(), of(s));
+  for (const Crossing& c : m.phase_crossovers) {
+    const auto l = s.response(c.w_rad_s);
+    ASSERT_TRUE(l.has_value());
+    EXPECT_NEAR(std::abs(std::arg(*l)), M_PI, 1e-7) << "at " << c.w_rad_s << " rad/s";
+  }
+  for (const Crossing& c : m.gain_crossovers) {
+    const auto l = s.response(c.w_rad_s);
+    ASSERT_TRUE(l.has_value());
+    EXPECT_NEAR(std::abs(*l), 1.0, 1e-7) << "at " << c.w_rad_s << " rad/s";
+  }
+}
+
+}  // namespace
+}  // namespace dmbd::blocks
