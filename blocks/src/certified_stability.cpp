@@ -74,10 +74,38 @@ std::optional<Polynomial> companion_polynomial(const Matrix& a) {
 }
 
 
-std::vector<RootCluster> enclose_eigenvalues(const Matrix& a) {
-  using CMatrix = Eigen::MatrixXcd;
+// D⁻¹ A D with D diagonal, its entries powers of two (so the similarity is exact and
+// the eigenvalues are A's to the bit), chosen to make each row's and column's
+// off-diagonal sums comparable (Parlett & Reinsch's balancing, as LAPACK's dgebal). A
+// realisation's states differ in scale by up to 1e10 (radians against newtons): the
+// eigenvectors of the unbalanced matrix are so ill-conditioned that the enclosure below
+// widens past the boundary for well-damped poles (the paper's potentiometer loop).
+Matrix balanced_exactly(Matrix a) {
   const Eigen::Index n = a.rows();
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double c = a.col(i).cwiseAbs().sum() - std::abs(a(i, i));
+      const double r = a.row(i).cwiseAbs().sum() - std::abs(a(i, i));
+      if (!(c > 0.0 && r > 0.0) || !std::isfinite(c) || !std::isfinite(r)) continue;
+      double f = 1.0, cc = c, rr = r;
+      while (cc < rr / 2.0) cc *= 2.0, rr /= 2.0, f *= 2.0;
+      while (cc >= rr * 2.0) cc /= 2.0, rr *= 2.0, f /= 2.0;
+      if ((cc + rr) < 0.95 * (c + r)) {
+        a.col(i) *= f;
+        a.row(i) /= f;
+        changed = true;
+      }
+    }
+  }
+  return a;
+}
+
+std::vector<RootCluster> enclose_eigenvalues(const Matrix& unbalanced) {
+  using CMatrix = Eigen::MatrixXcd;
+  const Eigen::Index n = unbalanced.rows();
   if (n == 0) return {};
+  const Matrix a = balanced_exactly(unbalanced);
   const RootCluster unknown{std::vector<Complex>(static_cast<size_t>(n), Complex(0.0)),
                             std::vector<double>(static_cast<size_t>(n), std::numeric_limits<double>::infinity())};
   Eigen::ComplexEigenSolver<CMatrix> es(a.cast<Complex>());
