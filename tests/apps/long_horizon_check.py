@@ -26,6 +26,8 @@ import sys
 
 import mpmath
 
+import mp_step  # beside this script
+
 TOL = 1e-9
 mpmath.mp.dps = 50
 
@@ -61,37 +63,9 @@ def factored_systems(rng):
     return out
 
 
-def companion(num, den):
-    """Controllable companion realisation (A, b, c, d) in mpmath of num/den."""
-    den = [mpmath.mpf(x) for x in den]
-    num = [mpmath.mpf(x) for x in num]
-    lead = den[0]
-    den = [x / lead for x in den]
-    num = [x / lead for x in num]
-    n = len(den) - 1
-    num = [mpmath.mpf(0)] * (n + 1 - len(num)) + num
-    d = num[0]
-    a = mpmath.zeros(n + 1, n + 1)  # the augmented M = [A b; 0 0]
-    for j in range(n):
-        a[0, j] = -den[j + 1]
-    for i in range(1, n):
-        a[i, i - 1] = 1
-    a[0, n] = 1
-    c = [num[j + 1] - d * den[j + 1] for j in range(n)]
-    return a, c, d, n
-
-
 def reference_step(num, den, t):
-    m, c, d, n = companion(num, den)
-    dt = mpmath.mpf(t[1]) - mpmath.mpf(t[0])
-    e = mpmath.expm(m * dt)
-    z = mpmath.zeros(n + 1, 1)
-    z[n] = 1
-    y = []
-    for _ in t:
-        y.append(float(sum(c[j] * z[j] for j in range(n)) + d))
-        z = e * z
-    return y
+    """The step response at the samples t from mpmath at 50 digits (mp_step.py)."""
+    return mp_step.step_samples(num, den, t, 50)
 
 
 def compare(label, got, ref, failures):
