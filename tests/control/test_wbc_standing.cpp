@@ -104,6 +104,20 @@ TEST(WbcQp, WithNoForceAllowedTheRobotFallsAtG) {
   EXPECT_LT((a_com - Eigen::Vector3d(0, 0, -9.81)).norm(), 1e-9);
 }
 
+// One contact (3 force components, fewer than the base's 6 rows): the reduced form needs
+// no more rows of the contact Jacobian than it has, and the base's equations hold.
+TEST(WbcQp, OneContactKeepsTheBaseEquations) {
+  Standing s;
+  wholebody::WbcQp wbc(s.model.layout(), 1);
+  const ContactSetting stance[1] = {};
+  const Eigen::MatrixXd J_left = s.J_c.topRows(3);
+  const Eigen::VectorXd Jdv_left = s.Jc_dot_v.head(3);
+  ASSERT_EQ(wbc.solve(s.data, J_left, Jdv_left, Eigen::VectorXd::Zero(16), stance), QpStatus::Optimal);
+  const Eigen::VectorXd base = (s.data.A * wbc.qdd() + s.data.bg - J_left.transpose() * wbc.forces()).head(6);
+  EXPECT_LT(base.norm(), 1e-9 * s.mass * 9.81) << base.transpose();
+  EXPECT_GE(wbc.forces()[2], 0.0);
+}
+
 TEST(WbcQp, NoAllocationInASolve) {
   DMBD_SKIP_UNDER_ASAN();
   Standing s;

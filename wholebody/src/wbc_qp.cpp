@@ -24,6 +24,7 @@ WbcQp::WbcQp(const Layout& layout, int num_contacts, const WbcQpParams& params)
       params_(params),
       qp_(n_, 0, 6 * num_contacts + 2 * nj_),
       P_(6, n_),
+      base_rhs_(6, n_),
       K_(3 * num_contacts, n_),
       k_(3 * num_contacts),
       B_(kBase + 3 * num_contacts, n_),
@@ -91,9 +92,9 @@ bool WbcQp::reduce(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd
   // A_bb⁻¹ once (fixed 6 x 6, unrolled), then a product: solving in place against the
   // 6 x n right-hand side takes Eigen's blocked triangular path, three times the cost.
   const Eigen::Matrix<double, kBase, kBase> inverse = base_inertia_.solve(Eigen::Matrix<double, kBase, kBase>::Identity());
-  K_.leftCols(nj_) = -data.A.topRightCorner(kBase, nj_);  // K_'s top rows as scratch: [−A_bj, J_c,bᵀ]
-  K_.rightCols(3 * nc_) = J_c.leftCols(kBase).transpose();
-  P_.noalias() = inverse.lazyProduct(K_.topRows(kBase));
+  base_rhs_.leftCols(nj_) = -data.A.topRightCorner(kBase, nj_);  // [−A_bj, J_c,bᵀ]
+  base_rhs_.rightCols(3 * nc_) = J_c.leftCols(kBase).transpose();
+  P_.noalias() = inverse.lazyProduct(base_rhs_);
   p0_.noalias() = -(inverse * rhs_.head<kBase>());
   K_.noalias() = J_c.leftCols(kBase).lazyProduct(P_);
   K_.leftCols(nj_) += J_c.rightCols(nj_);

@@ -81,6 +81,7 @@ class WbcQp {
   QpSolver qp_;
   Eigen::LLT<Eigen::Matrix<double, 6, 6>> base_inertia_;  // A_bb
   Eigen::Matrix<double, 6, Eigen::Dynamic> P_;            // Δq̈_b = P y + p₀
+  Eigen::Matrix<double, 6, Eigen::Dynamic> base_rhs_;     // [−A_bj, J_c,bᵀ], P's right-hand side
   Eigen::Matrix<double, 6, 1> p0_;
   Eigen::MatrixXd K_;      // slack s = K y + k (3 n_c x n)
   Eigen::VectorXd k_;
