@@ -1,10 +1,12 @@
-// TreeKernel: Simbody realises the tree's kinematics; the mass matrix, bias forces and
-// Jacobians are assembled from its hinge columns and body quantities (see the header
-// for why). Spatial vectors are [angular; linear] in world axes; "at O" means about
+// TreeKernel: Simbody builds the tree; its poses, hinge columns, velocities and bias
+// accelerations are realised here by one outward pass per stage over the mobilizers
+// (mobilizer.hpp), and the mass matrix, bias forces and Jacobians are assembled from them
+// (see the header for why). Spatial vectors are [angular; linear] in world axes; "at O" means about
 // the world origin, so composite inertias and forces add without shifting.
 #include "tree_kernel.hpp"
 
 #include "dmbd/model/error.hpp"
+#include "mobilizer.hpp"
 #include "simbody_tree.hpp"
 
 #include <cmath>
@@ -24,6 +26,27 @@ Eigen::Matrix3d to_eigen3(const SimTK::Mat33& m) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) out(i, j) = m(i, j);
   return out;
+}
+
+// Spatial cross products at O, [angular; linear]: motion x motion and motion x force.
+Vector6d cross_motion(const Vector6d& a, const Vector6d& b) {
+  Vector6d c;
+  c << a.head<3>().cross(b.head<3>()), a.head<3>().cross(b.tail<3>()) + a.tail<3>().cross(b.head<3>());
+  return c;
+}
+Vector6d cross_force(const Vector6d& a, const Vector6d& f) {
+  Vector6d c;
+  c << a.head<3>().cross(f.head<3>()) + a.tail<3>().cross(f.tail<3>()), a.head<3>().cross(f.tail<3>());
+  return c;
+}
+
+MobilizerKind kind_of(const SimTK::MobilizedBody& mb) {
+  if (SimTK::MobilizedBody::Weld::isInstanceOf(mb)) return MobilizerKind::Weld;
+  if (SimTK::MobilizedBody::Pin::isInstanceOf(mb)) return MobilizerKind::Pin;
+  if (SimTK::MobilizedBody::Slider::isInstanceOf(mb)) return MobilizerKind::Slider;
+  if (SimTK::MobilizedBody::Free::isInstanceOf(mb)) return MobilizerKind::Free;
+  if (SimTK::MobilizedBody::Planar::isInstanceOf(mb)) return MobilizerKind::Planar;
+  throw ModelError("tree kernel: a mobilizer of a kind it does not know");
 }
 
 }  // namespace
@@ -46,18 +69,22 @@ struct TreeKernel::Impl {
   std::vector<std::vector<int>> anc_u;  // mobilities moving the body, ascending
   std::vector<int> quat_q;              // first q of each quaternion
   std::vector<int> joint_q, joint_v, joint_body;
+  std::vector<Mobilizer> mob;           // per body
+  std::vector<Vector6d> H;              // per mobility: its hinge column in F
 
   // Caches at q.
-  mutable std::vector<Eigen::Matrix3d> R;
-  mutable std::vector<Eigen::Vector3d> o, com_W, hsub;
+  mutable std::vector<Eigen::Matrix3d> R, R_F;  // R_WB; R_WF of the body's mobilizer
+  mutable std::vector<Eigen::Vector3d> o, o_M, com_W, hsub;
   mutable std::vector<double> msub;
-  mutable std::vector<Matrix6d> Ic;      // composite spatial inertia at O
+  mutable std::vector<Matrix6d> Ib, Ic;  // the body's and its subtree's spatial inertia at O
   mutable std::vector<Vector6d> S;       // per mobility: motion at O
   // Caches at (q, v).
   mutable std::vector<Eigen::Vector3d> w, vo;
+  mutable std::vector<Vector6d> V, A;        // spatial velocity and bias acceleration at O
   mutable std::vector<Vector6d> cor, fcent;  // Coriolis acceleration at the origin; centrifugal force at O
   mutable std::vector<Vector6d> fsub;       // scratch: subtree forces
   mutable SimTK::Vector u_sim, qdot_sim;
+  mutable Eigen::VectorXd qdot_buf;
   int root_q = 0;
 
   Impl(const RobotDescription& r, BaseMode base, const Eigen::Isometry3d& X_WB, double g, const std::vector<double>& taken)
@@ -84,6 +111,7 @@ struct TreeKernel::Impl {
     root_q = matter.getMobilizedBody(tree.root).getFirstQIndex(state);
     u_sim.resize(nv);
     qdot_sim.resize(nq);
+    qdot_buf = Eigen::VectorXd::Zero(nq);
   }
 
   void size_caches() {
@@ -96,14 +124,21 @@ struct TreeKernel::Impl {
     num_u.assign(n, 0);
     anc_u.assign(n, {});
     R.assign(n, Eigen::Matrix3d::Identity());
+    R_F.assign(n, Eigen::Matrix3d::Identity());
     o.assign(n, Eigen::Vector3d::Zero());
+    o_M.assign(n, Eigen::Vector3d::Zero());
+    mob.assign(n, Mobilizer{});
+    H.assign(static_cast<std::size_t>(nv), Vector6d::Zero());
     com_W.assign(n, Eigen::Vector3d::Zero());
     hsub.assign(n, Eigen::Vector3d::Zero());
     msub.assign(n, 0.0);
+    Ib.assign(n, Matrix6d::Zero());
     Ic.assign(n, Matrix6d::Zero());
     S.assign(static_cast<std::size_t>(nv), Vector6d::Zero());
     w.assign(n, Eigen::Vector3d::Zero());
     vo.assign(n, Eigen::Vector3d::Zero());
+    V.assign(n, Vector6d::Zero());
+    A.assign(n, Vector6d::Zero());
     cor.assign(n, Vector6d::Zero());
     fcent.assign(n, Vector6d::Zero());
     fsub.assign(n, Vector6d::Zero());
@@ -122,43 +157,76 @@ struct TreeKernel::Impl {
       num_u[k] = mb.getNumU(state);
       if (mb.getNumQ(state) - mb.getNumU(state) == 1) quat_q.push_back(mb.getFirstQIndex(state));
       mass += m[k];
+      describe_mobilizer(mb, k);
       // Ancestors are built before their children (parent index < child index).
       if (parent[k] > 0) anc_u[k] = anc_u[static_cast<std::size_t>(parent[k])];
       for (int u = 0; u < num_u[k]; ++u) anc_u[k].push_back(first_u[k] + u);
     }
   }
 
+  void describe_mobilizer(const SimTK::MobilizedBody& mb, std::size_t k) {
+    Mobilizer& d = mob[k];
+    d.kind = kind_of(mb);
+    d.first_q = mb.getFirstQIndex(state);
+    d.first_u = first_u[k];
+    d.nq = mb.getNumQ(state);
+    d.nu = num_u[k];
+    const SimTK::Transform& X_PF = mb.getDefaultInboardFrame();
+    const SimTK::Transform X_MB = ~mb.getDefaultOutboardFrame();
+    d.R_PF = to_eigen3(X_PF.R().asMat33());
+    d.p_PF = to_eigen(X_PF.p());
+    d.R_MB = to_eigen3(X_MB.R().asMat33());
+    d.p_MB = to_eigen(X_MB.p());
+    for (int u = 0; u < d.nu; ++u) H[static_cast<std::size_t>(d.first_u + u)] = mobilizer_column(d.kind, u);
+  }
+
+  // Simbody's state at the kernel's q (and v), realised: for the reference operators only.
+  void realize_simbody(bool velocity) const {
+    for (int i = 0; i < nq; ++i) state.updQ()[i] = q[i];
+    for (int i = 0; i < nv; ++i) state.updU()[i] = v[i];
+    system.realize(state, velocity ? SimTK::Stage::Velocity : SimTK::Stage::Position);
+  }
+
   void need_position() const {
     if (pos_ok) return;
-    SimTK::Vector& sq = state.updQ();
-    for (int i = 0; i < nq; ++i) sq[i] = q[i];
-    system.realize(state, SimTK::Stage::Position);
-    for (int b = 1; b < nb; ++b) position_terms(b);
+    for (int b = 1; b < nb; ++b) {
+      place(b);
+      position_terms(b);
+    }
     composite_terms();
     pos_ok = true;
   }
 
+  // X_WB = X_WP X_PF X_FM(q) X_MB (the parent is placed first: its index is smaller).
+  void place(int b) const {
+    const auto k = static_cast<std::size_t>(b), p = static_cast<std::size_t>(parent[k]);
+    const Mobilizer& d = mob[k];
+    Eigen::Matrix3d R_FM;
+    Eigen::Vector3d p_FM;
+    mobilizer_transform(d, q, R_FM, p_FM);
+    R_F[k] = R[p] * d.R_PF;
+    o_M[k] = o[p] + R[p] * d.p_PF + R_F[k] * p_FM;
+    const Eigen::Matrix3d R_M = R_F[k] * R_FM;
+    R[k] = R_M * d.R_MB;
+    o[k] = o_M[k] + R_M * d.p_MB;
+  }
+
   void position_terms(int b) const {
     const auto k = static_cast<std::size_t>(b);
-    const SimTK::MobilizedBody& mb = matter.getMobilizedBody(SimTK::MobilizedBodyIndex(b));
-    const SimTK::Transform& X = mb.getBodyTransform(state);
-    R[k] = to_eigen3(X.R().asMat33());
-    o[k] = to_eigen(X.p());
     com_W[k] = o[k] + R[k] * com_B[k];
     for (int u = 0; u < num_u[k]; ++u) {
-      const SimTK::SpatialVec H = mb.getHCol(state, SimTK::MobilizerUIndex(u));
-      const Eigen::Vector3d hw = to_eigen(H[0]), hv = to_eigen(H[1]);
-      Vector6d& s = S[static_cast<std::size_t>(first_u[k] + u)];
-      s.head<3>() = hw;
-      s.tail<3>() = hv - hw.cross(o[k]);  // the velocity at O of a point moving with the body
+      const auto i = static_cast<std::size_t>(first_u[k] + u);
+      const Eigen::Vector3d hw = R_F[k] * H[i].head<3>(), hv = R_F[k] * H[i].tail<3>();
+      S[i] << hw, hv - hw.cross(o_M[k]);  // the velocity at O of a point moving with M
     }
     // Spatial inertia at O: [I_c + m [c]x [c]x^T, m [c]x; m [c]x^T, m 1].
     const Eigen::Matrix3d cx = skew(com_W[k]);
-    Matrix6d& I = Ic[k];
+    Matrix6d& I = Ib[k];
     I.topLeftCorner<3, 3>() = R[k] * Icom_B[k] * R[k].transpose() + m[k] * cx * cx.transpose();
     I.topRightCorner<3, 3>() = m[k] * cx;
     I.bottomLeftCorner<3, 3>() = m[k] * cx.transpose();
     I.bottomRightCorner<3, 3>() = m[k] * Eigen::Matrix3d::Identity();
+    Ic[k] = I;
     msub[k] = m[k];
     hsub[k] = m[k] * com_W[k];
   }
@@ -177,22 +245,29 @@ struct TreeKernel::Impl {
   void need_velocity() const {
     need_position();
     if (vel_ok) return;
-    SimTK::Vector& su = state.updU();
-    for (int i = 0; i < nv; ++i) su[i] = v[i];
-    system.realize(state, SimTK::Stage::Velocity);
-    for (int b = 1; b < nb; ++b) {
-      const auto k = static_cast<std::size_t>(b);
-      const SimTK::MobilizedBodyIndex mbx(b);
-      const SimTK::SpatialVec& V = matter.getMobilizedBody(mbx).getBodyVelocity(state);
-      w[k] = to_eigen(V[0]);
-      vo[k] = to_eigen(V[1]);
-      const SimTK::SpatialVec& A = matter.getTotalCoriolisAcceleration(state, mbx);
-      cor[k] << to_eigen(A[0]), to_eigen(A[1]);
-      const SimTK::SpatialVec& F = matter.getTotalCentrifugalForces(state, mbx);
-      const Eigen::Vector3d f = to_eigen(F[1]);
-      fcent[k] << to_eigen(F[0]) + o[k].cross(f), f;  // moment about O
-    }
+    for (int b = 1; b < nb; ++b) velocity_terms(b);
     vel_ok = true;
+  }
+
+  // V_B = V_P + sum S_u v_u; the bias acceleration (vdot = 0) A_B = A_P + V_P x V_B, plus,
+  // when M's origin slides in F (Free, Planar), v_rel x w_rel from the hinge columns
+  // about that moving origin; the force that acceleration takes, I A_B + V_B x* (I V_B).
+  void velocity_terms(int b) const {
+    const auto k = static_cast<std::size_t>(b), p = static_cast<std::size_t>(parent[k]);
+    Vector6d dV = Vector6d::Zero();
+    Eigen::Vector3d v_rel_F = Eigen::Vector3d::Zero();
+    for (int u = 0; u < num_u[k]; ++u) {
+      const auto i = static_cast<std::size_t>(first_u[k] + u);
+      dV += S[i] * v[static_cast<Eigen::Index>(i)];
+      v_rel_F += H[i].tail<3>() * v[static_cast<Eigen::Index>(i)];
+    }
+    V[k] = V[p] + dV;
+    A[k] = A[p] + cross_motion(V[p], V[k]);
+    A[k].tail<3>() += (R_F[k] * v_rel_F).cross(dV.head<3>());
+    w[k] = V[k].head<3>();
+    vo[k] = V[k].tail<3>() + w[k].cross(o[k]);
+    cor[k] << A[k].head<3>(), A[k].tail<3>() + A[k].head<3>().cross(o[k]) + w[k].cross(vo[k]);
+    fcent[k] = Ib[k] * A[k] + cross_force(V[k], Ib[k] * V[k]);
   }
 
   // tau_u = S_u^T (sum over the subtree of body(u) of f_b), f_b spatial forces at O.
@@ -439,7 +514,7 @@ double TreeKernel::gravity_potential() const {
 }
 
 void TreeKernel::reference_mass_matrix(Eigen::Ref<Eigen::MatrixXd> M) const {
-  impl_->need_position();
+  impl_->realize_simbody(false);
   SimTK::Matrix Ms;
   impl_->matter.calcM(impl_->state, Ms);
   for (int i = 0; i < Ms.nrow(); ++i)
@@ -448,7 +523,8 @@ void TreeKernel::reference_mass_matrix(Eigen::Ref<Eigen::MatrixXd> M) const {
 
 void TreeKernel::reference_coriolis_and_gravity(Eigen::Ref<Eigen::VectorXd> c) const {
   const Impl& k = *impl_;
-  k.need_velocity();
+  k.need_position();
+  k.realize_simbody(true);
   SimTK::Vector_<SimTK::SpatialVec> bf(k.nb, SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0)));
   for (int b = 1; b < k.nb; ++b) {
     const auto bi = static_cast<std::size_t>(b);
@@ -462,37 +538,53 @@ void TreeKernel::reference_coriolis_and_gravity(Eigen::Ref<Eigen::VectorXd> c) c
 
 void TreeKernel::reference_point_jacobian(int body, const Eigen::Vector3d& p_W, Eigen::Ref<Eigen::MatrixXd> J) const {
   const Impl& k = *impl_;
-  k.need_position();
-  const auto bi = static_cast<std::size_t>(body);
-  const Eigen::Vector3d p_B = k.R[bi].transpose() * (p_W - k.o[bi]);
+  k.realize_simbody(false);
+  const SimTK::MobilizedBodyIndex bx(body);
+  const SimTK::Vec3 p_B = k.matter.getMobilizedBody(bx).findStationAtGroundPoint(k.state, to_simtk(p_W));
   SimTK::Matrix Js;
-  k.matter.calcStationJacobian(k.state, SimTK::MobilizedBodyIndex(body), to_simtk(p_B), Js);
+  k.matter.calcStationJacobian(k.state, bx, p_B, Js);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < k.nv; ++j) J(i, j) = Js(i, j);
 }
 
 Eigen::Vector3d TreeKernel::reference_point_bias_acceleration(int body, const Eigen::Vector3d& p_W) const {
   const Impl& k = *impl_;
-  k.need_velocity();
-  const auto bi = static_cast<std::size_t>(body);
-  const Eigen::Vector3d p_B = k.R[bi].transpose() * (p_W - k.o[bi]);
-  return to_eigen(k.matter.calcBiasForStationJacobian(k.state, SimTK::MobilizedBodyIndex(body), to_simtk(p_B)));
+  k.realize_simbody(true);
+  const SimTK::MobilizedBodyIndex bx(body);
+  const SimTK::Vec3 p_B = k.matter.getMobilizedBody(bx).findStationAtGroundPoint(k.state, to_simtk(p_W));
+  return to_eigen(k.matter.calcBiasForStationJacobian(k.state, bx, p_B));
 }
 
-void TreeKernel::qdot(const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> qd) const {
+Eigen::Isometry3d TreeKernel::reference_pose(int body) const {
+  impl_->realize_simbody(false);
+  return to_eigen(impl_->matter.getMobilizedBody(SimTK::MobilizedBodyIndex(body)).getBodyTransform(impl_->state));
+}
+
+Vector6d TreeKernel::reference_velocity(int body) const {
+  impl_->realize_simbody(true);
+  const SimTK::SpatialVec& V = impl_->matter.getMobilizedBody(SimTK::MobilizedBodyIndex(body)).getBodyVelocity(impl_->state);
+  Vector6d out;
+  out << to_eigen(V[0]), to_eigen(V[1]);
+  return out;
+}
+
+void TreeKernel::reference_qdot(const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> qd) const {
   Impl& k = *impl_;
-  k.need_position();
+  k.realize_simbody(false);
   for (int i = 0; i < k.nv; ++i) k.u_sim[i] = v[i];
   k.matter.multiplyByN(k.state, false, k.u_sim, k.qdot_sim);
   for (int i = 0; i < k.nq; ++i) qd[i] = k.qdot_sim[i];
 }
 
+void TreeKernel::qdot(const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> qd) const {
+  const Impl& k = *impl_;
+  for (int b = 1; b < k.nb; ++b) mobilizer_qdot(k.mob[static_cast<std::size_t>(b)], k.q, v, qd);
+}
+
 void TreeKernel::integrate(Eigen::Ref<Eigen::VectorXd> q, const Eigen::Ref<const Eigen::VectorXd>& v, double h) const {
-  Impl& k = *impl_;
-  k.need_position();
-  for (int i = 0; i < k.nv; ++i) k.u_sim[i] = v[i];
-  k.matter.multiplyByN(k.state, false, k.u_sim, k.qdot_sim);
-  for (int i = 0; i < k.nq; ++i) q[i] += h * k.qdot_sim[i];
+  const Impl& k = *impl_;
+  for (int b = 1; b < k.nb; ++b) mobilizer_qdot(k.mob[static_cast<std::size_t>(b)], k.q, v, k.qdot_buf);
+  q += h * k.qdot_buf;
   normalize(q);
 }
 

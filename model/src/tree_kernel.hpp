@@ -3,9 +3,10 @@
 // no force elements) and the rigid-body quantities the plant's steppers and
 // RobotDynamics read, written into storage sized once at construction.
 //
-// Simbody realises the kinematics (body poses, hinge columns H, body velocities,
-// Coriolis accelerations and centrifugal forces: none of these allocate). The dynamics
-// terms are assembled here from those results, in world axes about the world origin O:
+// Simbody builds the tree; the kinematics (body poses, hinge columns, body velocities,
+// bias accelerations and the forces they take) are realised here, one outward pass per
+// stage over the mobilizers (mobilizer.hpp), and the dynamics terms assembled from them,
+// in world axes about the world origin O:
 //   - mass matrix by the composite-rigid-body algorithm, M_ij = S_i^T I^c S_j;
 //   - Coriolis + gravity c = sum_b J_b^T (F_centrifugal,b - F_gravity,b);
 //   - point, frame and centre-of-mass Jacobians from the hinge columns.
@@ -103,12 +104,15 @@ class TreeKernel {
   double gravity_potential() const;                         // zero at z = 0
 
   // Simbody's own operators at the same state, for cross-checks in tests only (they
-  // allocate): calcM, calcResidualForceIgnoringConstraints with gravity, station
-  // Jacobian and its bias.
+  // realise Simbody's State and allocate): calcM, calcResidualForceIgnoringConstraints
+  // with gravity, station Jacobian and its bias, body pose and velocity, N(q).
   void reference_mass_matrix(Eigen::Ref<Eigen::MatrixXd> M) const;
   void reference_coriolis_and_gravity(Eigen::Ref<Eigen::VectorXd> c) const;
   void reference_point_jacobian(int body, const Eigen::Vector3d& p_W, Eigen::Ref<Eigen::MatrixXd> J) const;
   Eigen::Vector3d reference_point_bias_acceleration(int body, const Eigen::Vector3d& p_W) const;
+  Eigen::Isometry3d reference_pose(int body) const;
+  Vector6d reference_velocity(int body) const;         // [angular; velocity of the body's origin]
+  void reference_qdot(const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> qd) const;
 
   // qdot = N(q) v at the current q.
   void qdot(const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Ref<Eigen::VectorXd> qd) const;

@@ -1,11 +1,14 @@
 // The tree kernel (model/src/tree_kernel.hpp) against Simbody's own operators at random
-// states: the composite-rigid-body mass matrix against calcM, Coriolis + gravity against
-// calcResidualForceIgnoringConstraints, the hinge-column point Jacobians and their bias
-// terms against calcStationJacobian / calcBiasForStationJacobian, the centre-of-mass
-// Jacobian against finite differences of the centre of mass, and the energies.
+// states: body poses and velocities against Simbody's realised State, qdot = N(q) v
+// against multiplyByN, the composite-rigid-body mass matrix against calcM, Coriolis +
+// gravity against calcResidualForceIgnoringConstraints, the hinge-column point Jacobians
+// and their bias terms against calcStationJacobian / calcBiasForStationJacobian, the
+// centre-of-mass Jacobian against finite differences of the centre of mass, and the
+// energies. On DRACO and on a tree with every joint kind (tests/model/data/urdf/every_joint).
 #include "tree_kernel.hpp"
 
 #include "plant_fixtures.hpp"
+#include "test_urdf_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,6 +28,11 @@ const RobotDescription& draco() {
   return r;
 }
 
+const RobotDescription& every_joint() {
+  static const RobotDescription r = load_urdf(test::urdf_data("every_joint/every_joint.urdf"), UrdfOptions{{}, false, false});
+  return r;
+}
+
 // A random configuration: unit quaternion, joints in [-1, 1], base within a metre.
 void randomize(const TreeKernel& k, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& v) {
   std::uniform_real_distribution<double> u(-1, 1);
@@ -40,15 +48,19 @@ double rel(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
 
 class KernelVsSimbody : public ::testing::TestWithParam<BaseMode> {};
 
-TEST_P(KernelVsSimbody, MassMatrixBiasForcesAndJacobiansAgree) {
-  TreeKernel k(draco(), GetParam(), Eigen::Isometry3d::Identity(), 9.81);
-  std::mt19937 rng(11);
+// Worst relative differences, kernel against Simbody, over random states.
+struct Worst {
+  double pose = 0, vel = 0, qdot = 0, m = 0, c = 0, j = 0, b = 0;
+};
+
+Worst against_simbody(TreeKernel& k, int trials, unsigned seed) {
+  std::mt19937 rng(seed);
   Eigen::VectorXd q, v;
   const int n = k.nv();
   Eigen::MatrixXd M(n, n), Mr(n, n), J(3, n), Jr(3, n);
-  Eigen::VectorXd c(n), cr(n);
-  double worst_m = 0, worst_c = 0, worst_j = 0, worst_b = 0;
-  for (int trial = 0; trial < 20; ++trial) {
+  Eigen::VectorXd c(n), cr(n), qd(k.nq()), qdr(k.nq());
+  Worst w;
+  for (int trial = 0; trial < trials; ++trial) {
     randomize(k, rng, q, v);
     k.set_q(q);
     k.set_v(v);
@@ -56,22 +68,51 @@ TEST_P(KernelVsSimbody, MassMatrixBiasForcesAndJacobiansAgree) {
     k.reference_mass_matrix(Mr);
     k.coriolis_and_gravity(c);
     k.reference_coriolis_and_gravity(cr);
-    worst_m = std::max(worst_m, rel(M, Mr));
-    worst_c = std::max(worst_c, rel(c, cr));
+    k.qdot(v, qd);
+    k.reference_qdot(v, qdr);
+    w.m = std::max(w.m, rel(M, Mr));
+    w.c = std::max(w.c, rel(c, cr));
+    w.qdot = std::max(w.qdot, rel(qd, qdr));
     for (int b = 1; b < k.num_bodies(); ++b) {
+      const Eigen::Isometry3d X = k.pose(b), Xr = k.reference_pose(b);
+      w.pose = std::max({w.pose, rel(X.linear(), Xr.linear()), rel(X.translation(), Xr.translation())});
+      Vector6d V;
+      V << k.angular_velocity(b), k.point_velocity(b, k.origin(b));
+      w.vel = std::max(w.vel, rel(V, k.reference_velocity(b)));
       const Eigen::Vector3d p = k.origin(b) + k.rotation(b) * Eigen::Vector3d(0.03, -0.02, -0.1);
       k.point_jacobian(b, p, J);
       k.reference_point_jacobian(b, p, Jr);
-      worst_j = std::max(worst_j, rel(J, Jr));
-      worst_b = std::max(worst_b, rel(k.point_bias_acceleration(b, p), k.reference_point_bias_acceleration(b, p)));
+      w.j = std::max(w.j, rel(J, Jr));
+      w.b = std::max(w.b, rel(k.point_bias_acceleration(b, p), k.reference_point_bias_acceleration(b, p)));
     }
   }
+  return w;
+}
+
+void expect_rounding_level(const Worst& w, const char* robot) {
   // Both sides are exact up to rounding: entries are O(1-100), 1e-12 relative.
-  EXPECT_LT(worst_m, 1e-12);
-  EXPECT_LT(worst_c, 1e-12);
-  EXPECT_LT(worst_j, 1e-12);
-  EXPECT_LT(worst_b, 1e-12);
-  std::printf("kernel vs Simbody (20 random states): M %.2g, c %.2g, J %.2g, Jdot v %.2g\n", worst_m, worst_c, worst_j, worst_b);
+  EXPECT_LT(w.pose, 1e-12) << robot;
+  EXPECT_LT(w.vel, 1e-12) << robot;
+  EXPECT_LT(w.qdot, 1e-12) << robot;
+  EXPECT_LT(w.m, 1e-12) << robot;
+  EXPECT_LT(w.c, 1e-12) << robot;
+  EXPECT_LT(w.j, 1e-12) << robot;
+  EXPECT_LT(w.b, 1e-12) << robot;
+  std::printf("kernel vs Simbody, %s: pose %.2g, V %.2g, qdot %.2g, M %.2g, c %.2g, J %.2g, Jdot v %.2g\n", robot, w.pose,
+              w.vel, w.qdot, w.m, w.c, w.j, w.b);
+}
+
+TEST_P(KernelVsSimbody, KinematicsMassMatrixBiasForcesAndJacobiansAgree) {
+  TreeKernel k(draco(), GetParam(), Eigen::Isometry3d::Identity(), 9.81);
+  expect_rounding_level(against_simbody(k, 20, 11), "DRACO");
+}
+
+// Pin, slider, weld, a second free body and a planar joint, all off-axis, so every
+// mobilizer kind's transform, hinge columns, bias acceleration and N(q) is exercised.
+TEST_P(KernelVsSimbody, EveryJointKindAgrees) {
+  TreeKernel k(every_joint(), GetParam(), Eigen::Isometry3d::Identity(), 9.81);
+  ASSERT_EQ(k.nv(), GetParam() == BaseMode::Floating ? 6 + 3 + 6 + 3 : 3 + 6 + 3);
+  expect_rounding_level(against_simbody(k, 20, 7), "every joint kind");
 }
 
 TEST_P(KernelVsSimbody, ComJacobianMatchesFiniteDifferencesAndEnergyIsQuadratic) {
