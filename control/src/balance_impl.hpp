@@ -76,6 +76,13 @@ struct BalanceController::Impl {
   bool landing_pending = false;  // touched down, its standing point not yet latched
   long long landings = 0;        // standing points latched
   double swing_ankle_start = 0.0;
+  // The heading hold (BalanceSetup::heading_gain): the heading latched at the first lift,
+  // and per side the hip yaw's offset from its stance angle, at the swing's start and its
+  // target at the swing's end.
+  double heading = 0.0;
+  bool heading_set = false;
+  Eigen::Vector2d hip_yaw_offset_start = Eigen::Vector2d::Zero(), hip_yaw_offset_end = Eigen::Vector2d::Zero();
+  Eigen::Vector2d hip_yaw_offset = Eigen::Vector2d::Zero();  // now
   long long qp_failures = 0;
   bool fallen = false;
   double tilt = 0.0;  // the torso's, from the IMU
@@ -99,6 +106,7 @@ struct BalanceController::Impl {
   void on_events(const wholebody::PhaseInfo& ph);
   void plan_step(const wholebody::PhaseInfo& ph, bool replan);
   void plan_weight_shift(const wholebody::PhaseInfo& ph);
+  void plan_heading(Side swing_side);  // the hip yaws' offsets over the coming swing
   void pendulum_state(Side stance, Eigen::Vector2d& position_m, Eigen::Vector2d& velocity_m_s) const;  // TVR's point
 
   // Tasks, IK and QP (balance_wbc.cpp): q_des, qd_des, tau_ff; false when the QP failed.

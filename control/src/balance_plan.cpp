@@ -1,8 +1,10 @@
 // BalanceController: what happens at the phase machine's events (balance_controller.hpp,
 // steps 2 and 3): the start-up's starting points, the estimator's stance foot, the TVR
-// footstep at the swing's start and again at mid-swing, the swing spline, and the
+// footstep at the swing's start and again at mid-swing, the swing spline, the heading
+// hold's hip yaw offsets, and the
 // landing's record (where the foot stands once it has come down, at the next lift's
 // start, against where it was planned to at touch-down).
+#include <algorithm>
 #include <cmath>
 
 #include "balance_impl.hpp"
@@ -36,6 +38,7 @@ void BalanceController::Impl::on_events(const wholebody::PhaseInfo& ph) {
   }
   if (ev.swing_started) {
     swing_ankle_start = joint_q[ankle[static_cast<size_t>(sw)]];
+    plan_heading(sw);
     plan_step(ph, false);
   }
   if (ev.mid_swing) plan_step(ph, true);
@@ -43,6 +46,30 @@ void BalanceController::Impl::on_events(const wholebody::PhaseInfo& ph) {
     planned = swing.target_m().head<2>();
     landing_pending = true;
   }
+}
+
+// The heading hold (BalanceSetup::heading_gain): the stance hip yaw's offset moves by
+// -dpsi / a_z over the swing, a_z its axis's world z component (the stance foot's angular
+// Jacobian column): with that foot planted the torso turns by dpsi. The swing hip yaw
+// returns to its stance angle while its foot is in the air.
+void BalanceController::Impl::plan_heading(Side sw) {
+  hip_yaw_offset_start = hip_yaw_offset;
+  hip_yaw_offset_end = hip_yaw_offset;
+  hip_yaw_offset_end[static_cast<Eigen::Index>(sw)] = 0.0;
+  if (setup.heading_gain <= 0.0) return;
+  const Eigen::Matrix3d& R = data.frames[static_cast<size_t>(torso_frame)].X_WF.linear();
+  const double yaw = std::atan2(R(1, 0), R(0, 0));
+  if (!heading_set) {
+    heading = yaw;
+    heading_set = true;
+  }
+  const double limit = setup.heading_step_max_rad;
+  const double dpsi = std::clamp(setup.heading_gain * std::remainder(heading - yaw, 2 * M_PI), -limit, limit);
+  const auto st = static_cast<size_t>(wholebody::other(sw));
+  const int column = model.layout().joints[static_cast<size_t>(hip_yaw[st])].v_index;
+  const double a_z = data.frames[static_cast<size_t>(foot_frame[st])].J(2, column);
+  if (std::abs(a_z) < 0.5) return;  // a hip yaw far from vertical turns the torso little
+  hip_yaw_offset_end[static_cast<Eigen::Index>(st)] -= dpsi / a_z;
 }
 
 // The planner's pendulum state (TvrPoint): its position and its velocity, world xy.

@@ -112,6 +112,11 @@ void read_planner(const yaml::Fields& f, const YAML::Node& n, BalanceSetup& b) {
     f.optional(x, "kappa", [&](const YAML::Node& y) { b.tvr.kappa = vec2(f, y, "balance.tvr.kappa"); });
     f.optional(x, "com_height_m", [&](const YAML::Node& y) { b.tvr.com_height_m = f.number_in(y, "balance.tvr.com_height_m", 0.1, 10.0, "m"); });
   });
+  f.optional(n, "heading", [&](const YAML::Node& x) {
+    f.keys(x, "balance.heading", {"gain", "step_max_rad"});
+    f.optional(x, "gain", [&](const YAML::Node& y) { b.heading_gain = f.number_in(y, "balance.heading.gain", 0.0, 1.0, ""); });
+    f.optional(x, "step_max_rad", [&](const YAML::Node& y) { b.heading_step_max_rad = f.number_in(y, "balance.heading.step_max_rad", 0.0, 0.5, "rad"); });
+  });
   f.optional(n, "swing", [&](const YAML::Node& x) {
     f.keys(x, "balance.swing", {"mid_height_m", "landing_vertical_velocity_m_s", "horizontal_fraction"});
     f.optional(x, "horizontal_fraction", [&](const YAML::Node& y) { b.swing.horizontal_fraction = f.number_in(y, "balance.swing.horizontal_fraction", 0.05, 1.0, ""); });
@@ -183,7 +188,7 @@ class BalanceType : public BusControllerType {
     check_keys(f, n, "balance",
                {"stance_posture", "torso_height_m", "swing_ankle_rad", "tvr_point", "sensors", "estimator", "motion_capture_noise",
                 "joint_feedback", "task_gains", "ik_base_weight", "swing_relative_to_torso", "actuator_feedforward", "swing_foot_level",
-                "weight_shift", "phases", "tvr", "swing", "qp", "seed", "fall_tilt_rad", "torso_link", "foot_links", "hip_yaw_joints",
+                "weight_shift", "phases", "tvr", "heading", "swing", "qp", "seed", "fall_tilt_rad", "torso_link", "foot_links", "hip_yaw_joints",
                 "ankle_joints"});
     auto b = std::make_shared<BalanceSetup>();
     if (const auto* from = dynamic_cast<const BalanceSetup*>(base)) *b = *from;

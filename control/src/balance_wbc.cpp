@@ -82,9 +82,16 @@ void BalanceController::Impl::set_com_reference(const wholebody::PhaseInfo& ph) 
 // and the swing ankle and foot as tasks).
 void BalanceController::Impl::solve_ik(const wholebody::PhaseInfo& ph) {
   const wholebody::Layout& l = model.layout();
-  const Eigen::Vector2d yaw_d(stance_q[hip_yaw[0]], stance_q[hip_yaw[1]]);
-  const Eigen::Vector2d zero = Eigen::Vector2d::Zero();  // named: a Ref to an expression would allocate
-  hip_yaws->set_reference(yaw_d, zero, zero);
+  Eigen::Vector2d yaw_v = Eigen::Vector2d::Zero(), yaw_a = Eigen::Vector2d::Zero();  // named: a Ref to an expression would allocate
+  if (ph.phase == Phase::Swing) {  // the heading hold's offsets (plan_heading)
+    const Blend b = min_jerk(0.0, 1.0, ph.time_in_phase_s, ph.phase_duration_s);
+    const Eigen::Vector2d d = hip_yaw_offset_end - hip_yaw_offset_start;
+    hip_yaw_offset = hip_yaw_offset_start + b.p * d;
+    yaw_v = b.v * d;
+    yaw_a = b.a * d;
+  }
+  const Eigen::Vector2d yaw_d(stance_q[hip_yaw[0]] + hip_yaw_offset[0], stance_q[hip_yaw[1]] + hip_yaw_offset[1]);
+  hip_yaws->set_reference(yaw_d, yaw_v, yaw_a);
   set_torso_reference(ph);
   hip_yaws->update(data);
   torso->update(data);

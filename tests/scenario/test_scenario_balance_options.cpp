@@ -73,7 +73,8 @@ TEST(BalanceOptionsMap, TheNewKeysAreReadIntoTheSetup) {
                                  "  tvr_point: {torso_offset_m: [0.125, -0.0625]}\n"
                                  "  phases: {weight_shift_s: 0.25, touch_down_height_max_m: 0.015}\n"
                                  "  swing: {horizontal_fraction: 0.625}\n"
-                                 "  qp: {w_qdd_base: 12.5}\n");
+                                 "  qp: {w_qdd_base: 12.5}\n"
+                                 "  heading: {gain: 0.375, step_max_rad: 0.125}\n");
   const Scenario s = load_scenario(path);
   ASSERT_EQ(s.variants.size(), 1u);
   ASSERT_NE(dmbd::test::bus_options<BalanceSetup>(s.variants[0]), nullptr);
@@ -99,6 +100,8 @@ TEST(BalanceOptionsMap, TheNewKeysAreReadIntoTheSetup) {
   EXPECT_EQ(b.phases.touch_down_height_max_m, 0.015);
   EXPECT_EQ(b.swing.horizontal_fraction, 0.625);
   EXPECT_EQ(b.qp.w_qdd_base, 12.5);
+  EXPECT_EQ(b.heading_gain, 0.375);
+  EXPECT_EQ(b.heading_step_max_rad, 0.125);
 
   dmbd::sim::test::write_text(path, kHead + "balance: {tvr_point: com}\n");
   const BalanceSetup d = *dmbd::test::bus_options<BalanceSetup>(load_scenario(path).variants[0]);
@@ -118,6 +121,8 @@ TEST(BalanceOptionsMap, TheNewKeysAreReadIntoTheSetup) {
   EXPECT_EQ(d.swing.horizontal_fraction, defaults.swing.horizontal_fraction);
   EXPECT_EQ(d.qp.w_qdd_base, defaults.qp.w_qdd_base);
   EXPECT_EQ(d.tvr.lateral_width_m, 0.0);
+  EXPECT_EQ(d.heading_gain, 0.0);
+  EXPECT_EQ(d.heading_step_max_rad, defaults.heading_step_max_rad);
 
   dmbd::sim::test::write_text(path, kHead + "balance: {tvr_point: angular_momentum, tvr: {lateral_width_m: 0.25}}\n");
   const BalanceSetup a = *dmbd::test::bus_options<BalanceSetup>(load_scenario(path).variants[0]);
@@ -147,6 +152,9 @@ TEST(BalanceOptionsMap, BadValuesAreLocated) {
       {"  swing: {horizontal_fraction: 1.5}", "1.5", "balance.swing.horizontal_fraction: expected a number from 0.05 to 1, got 1.5"},
       {"  qp: {w_qdd_base: 0}", "0}", "balance.qp.w_qdd_base: expected a number from 1e-09 to 1e+12, got 0"},
       {"  phases: {weight_shift_s: -1}", "-1", "balance.phases.weight_shift_s: expected a number from 0 to 1e+06 s, got -1 s"},
+      {"  heading: {gain: 1.5}", "1.5", "balance.heading.gain: expected a number from 0 to 1, got 1.5"},
+      {"  heading: {step_max_rad: -0.1}", "-0.1", "balance.heading.step_max_rad: expected a number from 0 to 0.5 rad, got -0.1 rad"},
+      {"  heading: {gain: 0.3, yaw: 1}", "yaw", "balance.heading: unknown key 'yaw' (expected one of: gain, step_max_rad)"},
       {"  phases: {touch_down_height_max_m: 0}", "0}", "balance.phases.touch_down_height_max_m: expected a number from 0.0001 to 1 m, got 0 m"},
   };
   dmbd::sim::test::TempDir dir;

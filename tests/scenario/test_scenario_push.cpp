@@ -100,7 +100,8 @@ TEST(Push, KeysStillMissingAfterEveryAxisAreNamedAtThePush) {
 // group with its ankles' armature, one force per run, the
 // reference's force zero with its trigger kept; two of its runs, the reference and the
 // 60 N forward push 0.1 s after the touch-down, reproduce the full map's figures
-// (docs/experiments.md): the boundary 43.68 N there (to 0.01 N) and the push survived.
+// (docs/experiments.md): the boundary 43.70 N there (to 0.01 N; 43.68 N before the heading
+// hold) and the push survived.
 TEST(Push, TheShippedMapIsDirectionsByForcesByPhasesOnTheSixthStep) {
   sc::Scenario s = sc::load_scenario(std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/push_map.yaml");
   ASSERT_EQ(s.variants.size(), 2u * 8u * 11u * 4u);
@@ -131,5 +132,5 @@ TEST(Push, TheShippedMapIsDirectionsByForcesByPhasesOnTheSixthStep) {
   const auto& m = r.metrics["push_map"]["actuated"];
   ASSERT_EQ(m["pushes"].size(), 1u);
   EXPECT_TRUE(m["pushes"][0]["survived"].get<bool>());
-  EXPECT_NEAR(m["directions"]["0"]["by_phase"][0]["boundary_N"].get<double>(), 43.68, 0.01);
+  EXPECT_NEAR(m["directions"]["0"]["by_phase"][0]["boundary_N"].get<double>(), 43.70, 0.01);
 }

@@ -9,7 +9,8 @@
 //      weight shift, then double support → lift → swing → landing per side, touch-down on
 //      the swing ankle's velocity);
 //   3. footsteps: the TVR planner at the swing's start and once more at mid-swing, the
-//      swing foot on a B-spline (wholebody::SwingTrajectory);
+//      swing foot on a B-spline (wholebody::SwingTrajectory); the heading hold's hip yaw
+//      offsets for the swing (BalanceSetup::heading_gain);
 //   4. prioritised IK from the contact null space (hip yaws → swing ankle → torso roll,
 //      pitch, height → swing foot; in the weight shift hip yaws → torso → CoM x, y),
 //      giving q_des = q + Δq, q̇_des, q̈_des (the tasks' accelerations with the task gains,
@@ -134,6 +135,13 @@ struct BalanceSetup : BusControllerOptions {
   // then leaves no steady offset.
   Eigen::Vector2d tvr_integral_gain = Eigen::Vector2d::Zero();
   double tvr_integral_limit_m = 0.2;    // `tvr.integral_limit_m`: the largest move of the target, m, per axis
+  // The heading held while stepping (`heading`: {gain, step_max_rad}; gain 0: none, the
+  // torso's yaw then follows its stance foot's, which turns on its contact points). At
+  // each swing's start, dpsi = gain x (the heading at the first lift - the torso's yaw),
+  // within +-step_max_rad: during the swing the stance hip yaw turns the torso by dpsi
+  // about the planted foot and the swing hip yaw returns to its stance angle in the air.
+  double heading_gain = 0.0;
+  double heading_step_max_rad = 0.05;
   BalanceTaskGains task_gains;           // feedback in the IK tasks (none by default but com's)
   // The IK's weight on the floating base's six coordinates (the joints': 1): 1 is the
   // authors' least-norm step; larger keeps the IK from "moving" the robot about its point
