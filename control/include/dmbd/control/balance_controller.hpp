@@ -140,8 +140,8 @@ struct BalanceSetup : BusControllerOptions {
   // each swing's start, dpsi = gain x (the heading at the first lift - the torso's yaw),
   // within +-step_max_rad: during the swing the stance hip yaw turns the torso by dpsi
   // about the planted foot and the swing hip yaw returns to its stance angle in the air.
-  double heading_gain = 0.0;
-  double heading_step_max_rad = 0.05;
+  double heading_gain = 0.0;          // `heading.gain`: the fraction of the error turned per step, 0 to 1
+  double heading_step_max_rad = 0.05;  // `heading.step_max_rad`: the largest turn per step, rad
   BalanceTaskGains task_gains;           // feedback in the IK tasks (none by default but com's)
   // The IK's weight on the floating base's six coordinates (the joints': 1): 1 is the
   // authors' least-norm step; larger keeps the IK from "moving" the robot about its point
