@@ -236,6 +236,8 @@ std::vector<JointCommand> BalanceController::joint_commands() const {
 
 void BalanceController::record(const model::Plant& plant, std::map<std::string, double>& truth) const {
   truth["total_mass_kg"] = plant.total_mass_kg();
+  truth["planner_gravity_m_s2"] = impl_->tvr.params().gravity_m_s2;  // the pendulum the footsteps are planned with
+  truth["planner_omega_per_s"] = impl_->tvr.omega_per_s();
 }
 
 // One tick: state, phase, events, whole-body control, outputs. On a failed QP the last

@@ -151,6 +151,24 @@ TEST(BalanceScenario, APushTriggeredByATouchDownIsFoundWhereItStarted) {
   EXPECT_DOUBLE_EQ(pushes[0].at("force_N").get<double>(), 20.0);
 }
 
+// The planner's pendulum falls as the scenario's gravity says (issue 28, row 18: it used
+// 9.81 m/s² whatever robot.gravity was): on Mars' 3.71 m/s², ω = sqrt(3.71 / 0.78) for the
+// shipped TVR height, as the run's truth records it; on the default gravity, 9.81.
+TEST(BalanceScenario, ThePlannerUsesTheScenariosGravity) {
+  dmbd::sim::test::TempDir dir;
+  const std::string path = dir.file("g.yaml");
+  for (const double g : {3.71, 9.81}) {
+    const std::string gravity = g == 9.81 ? "" : ", gravity: 3.71";
+    dmbd::sim::test::write_text(path, "name: g\nrobot: {urdf: draco, base: floating, contact: true" + gravity +
+                                          "}\nduration_s: 0.002\nbalance: {tvr: {com_height_m: 0.78}}\n");
+    const Scenario s = load_scenario(path);
+    const VariantResult r = run_variant(s, s.variants[0], RunOptions{});
+    ASSERT_TRUE(r.truth.count("planner_gravity_m_s2")) << g;
+    EXPECT_EQ(r.truth.at("planner_gravity_m_s2"), g);
+    EXPECT_NEAR(r.truth.at("planner_omega_per_s"), std::sqrt(g / 0.78), 1e-12) << g;
+  }
+}
+
 // With nothing holding it the robot folds and drops: the run ends once the torso is
 // below 0.5 m, well before its 5 s; base.vz is the torso's falling speed (the finite
 // difference of base.z to 2 % over one 5 ms log step).

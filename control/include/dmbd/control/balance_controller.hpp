@@ -203,7 +203,9 @@ class BalanceController : public BusController {
   // Per joint its targets J.q_des (a joint's loop must read one of J.q_des, J.qd_des,
   // J.tau_ff, J.force_ff).
   std::vector<JointCommand> joint_commands() const override;
-  // The plant's total mass as truth "total_mass_kg" (the balance experiment's push analysis).
+  // The plant's total mass as truth "total_mass_kg" (the balance experiment's push
+  // analysis), and the TVR planner's pendulum: "planner_gravity_m_s2" (the scenario's
+  // robot.gravity) and "planner_omega_per_s" (sqrt(g / tvr.com_height_m)).
   void record(const model::Plant& plant, std::map<std::string, double>& truth) const override;
   long long qp_failures() const;  // ticks whose QP failed (the last command kept), as balance.qp_failures
 
