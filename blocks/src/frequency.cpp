@@ -6,6 +6,8 @@
 #include <limits>
 
 #include "dmbd/blocks/error.hpp"
+#include "phase_model.hpp"
+#include "scaled_response.hpp"
 
 namespace dmbd::blocks {
 
@@ -17,46 +19,6 @@ double wrap_pi(double a) {  // into (-pi, pi]
   a = std::remainder(a, 2.0 * M_PI);
   return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
-
-double wrap_2pi(double a) {  // into [0, 2 pi)
-  a = std::fmod(a, 2.0 * M_PI);
-  return a < 0.0 ? a + 2.0 * M_PI : a;
-}
-
-// The factor-wise phase model of a TF (see Bode::phase_deg).
-struct PhaseModel {
-  bool discrete = false;
-  double ts = 0.0;
-  int m = 0;               // zeros minus poles at s = 0 (or z = 1)
-  double low_rad = 0.0;    // phase as w -> 0
-  std::vector<Complex> zeros, poles;  // the others
-
-  explicit PhaseModel(const TransferFunction& g) : discrete(g.is_discrete()), ts(g.ts()) {
-    const double x0 = discrete ? 1.0 : 0.0;
-    const auto [n, mn] = g.num().without_root(x0);
-    const auto [d, md] = g.den().without_root(x0);
-    m = mn - md;
-    zeros = n.roots();
-    poles = d.roots();
-    const double k0 = n(x0) / d(x0);
-    low_rad = m * M_PI / 2.0 + (k0 < 0.0 ? -M_PI : 0.0);
-  }
-
-  // Exact phase change of one root's factor from DC to w.
-  double factor(const Complex& r, double w) const {
-    if (!discrete) return wrap_pi(std::arg(Complex(1.0, 0.0) - Complex(0.0, w) / r));
-    const double th = w * ts;
-    const double raw = std::arg(std::polar(1.0, th) - r) - std::arg(Complex(1.0, 0.0) - r);
-    return std::abs(r) < 1.0 ? wrap_2pi(raw) : wrap_pi(raw);
-  }
-
-  double phase_rad(double w) const {
-    double p = low_rad + (discrete ? m * w * ts / 2.0 : 0.0);
-    for (const Complex& z : zeros) p += factor(z, w);
-    for (const Complex& q : poles) p -= factor(q, w);
-    return p;
-  }
-};
 
 Complex point(const TransferFunction& g, double w) {
   return g.is_discrete() ? std::polar(1.0, w * g.ts()) : Complex(0.0, w);
@@ -180,7 +142,7 @@ std::vector<double> default_frequency_grid(const TransferFunction& g, int n) {
 
 std::vector<Complex> frequency_response(const TransferFunction& g, const std::vector<double>& w) {
   std::vector<Complex> h(w.size());
-  for (size_t k = 0; k < w.size(); ++k) h[k] = g.evaluate(point(g, w[k]));
+  for (size_t k = 0; k < w.size(); ++k) h[k] = scaled_response(g, w[k]).value(w[k]);
   return h;
 }
 
@@ -238,23 +200,33 @@ std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys, const st
   return out;
 }
 
+// The response from the coefficients (scaled_response), the phase as the branch of
+// arg G nearest the factor-wise model: the model is only needed to within pi, so
+// its approximate form serves; the exact one only where G is 0 or infinite.
 Bode bode(const TransferFunction& g, const std::vector<double>& w) {
   Bode b;
   b.w_rad_s = w;
-  b.response = frequency_response(g, w);
   const PhaseModel model(g);
-  b.mag_db.resize(w.size());
-  b.phase_deg.resize(w.size());
-  for (size_t k = 0; k < w.size(); ++k) {
-    const Complex h = b.response[k];
-    b.mag_db[k] = 20.0 * std::log10(std::abs(h));
-    const double model_deg = model.phase_rad(w[k]) * kDeg;
-    if (h == Complex(0.0) || !std::isfinite(std::abs(h))) {
-      b.phase_deg[k] = model_deg;
-    } else {
-      const double a = std::arg(h) * kDeg;
-      b.phase_deg[k] = a + 360.0 * std::round((model_deg - a) / 360.0);
+  std::vector<double> model_rad;
+  model.approx_phase_rad(w, model_rad);
+  std::vector<ScaledResponse> responses;
+  scaled_responses(g, w, responses);
+  const size_t n = w.size();
+  b.response.resize(n);
+  b.mag_db.resize(n);
+  b.phase_deg.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const ScaledResponse& r = responses[k];
+    b.response[k] = r.value(w[k]);
+    const bool regular = std::isfinite(r.h.real()) && std::isfinite(r.h.imag()) && r.h != Complex(0.0);
+    if (!regular || std::isnan(model_rad[k])) {
+      b.mag_db[k] = 20.0 * std::log10(std::abs(r.h));
+      b.phase_deg[k] = model.phase_rad(w[k]) * kDeg;
+      continue;
     }
+    b.mag_db[k] = r.mag_db(w[k]);
+    const double a = r.arg_rad(w[k]);
+    b.phase_deg[k] = (a + 2.0 * M_PI * std::round((model_rad[k] - a) / (2.0 * M_PI))) * kDeg;
   }
   return b;
 }
@@ -265,7 +237,6 @@ Margins margins(const TransferFunction& loop) {
   const AxisForm af(loop);
   const Polynomial& n = af.num;
   const Polynomial& d = af.den;
-  const PhaseModel model(loop);
 
   // Gain crossovers: |N(jv)|^2 = |D(jv)|^2.
   const Polynomial e = n * n.negated_argument() - d * d.negated_argument();
