@@ -6,6 +6,9 @@
 // controller tick (control::BalanceController::step: state, phase, events, IK, QP, outputs)
 // in double support and in the swing, with the motion-capture and the kinematic
 // estimators (the latter updates a second model: the estimator's).
+// With DART (DMBD_HAVE_DART, bench only): BM_DartModelTerms, DART's equivalents of
+// BM_WbcModelTermsOnly's terms on the same URDF (DartLoader, floating base) at the same
+// state, for a second anchor.
 #include <benchmark/benchmark.h>
 
 #include "draco_options.hpp"
@@ -18,16 +21,33 @@
 #include "dmbd/wholebody/task.hpp"
 #include "dmbd/wholebody/wbc_qp.hpp"
 
+#if DMBD_HAVE_DART
+#include <dart/dynamics/BodyNode.hpp>
+#include <dart/dynamics/FreeJoint.hpp>
+#include <dart/dynamics/Joint.hpp>
+#include <dart/dynamics/Skeleton.hpp>
+#include <dart/utils/urdf/DartLoader.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+#endif
+
 namespace {
 
 using namespace dmbd;
 
+// The three frames of the model's terms: the feet's contact points and the torso.
+const wholebody::FrameSpec kLeftFoot{"l_foot", Eigen::Vector3d(0.015, 0, -0.044)};
+const wholebody::FrameSpec kRightFoot{"r_foot", Eigen::Vector3d(0.015, 0, -0.044)};
+const wholebody::FrameSpec kTorso{"torso", Eigen::Vector3d::Zero()};
+
 struct DoubleSupport {
   model::RobotDescription robot = model::load_urdf(DMBD_ROBOTS_DIR "/draco/draco.urdf");
   control::DynamicsModel model{robot, model::DynamicsOptions{}};
-  int left = model.add_frame({"l_foot", Eigen::Vector3d(0.015, 0, -0.044)});
-  int right = model.add_frame({"r_foot", Eigen::Vector3d(0.015, 0, -0.044)});
-  int torso = model.add_frame({"torso", Eigen::Vector3d::Zero()});
+  int left = model.add_frame(kLeftFoot);
+  int right = model.add_frame(kRightFoot);
+  int torso = model.add_frame(kTorso);
   wholebody::ModelData data = model.make_data();
   wholebody::PostureTask yaws{model.layout(), {model.layout().joint_index("l_hip_yaw"), model.layout().joint_index("r_hip_yaw")}};
   wholebody::OrientationTask orientation{torso, 16};
@@ -84,6 +104,120 @@ void BM_WbcModelTermsOnly(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_WbcModelTermsOnly);
+
+#if DMBD_HAVE_DART
+// DART's equivalents of BM_WbcModelTermsOnly (DynamicsModel::update), on DRACO's URDF read
+// by DART's loader (floating base: a FreeJoint), at the same state as DoubleSupport's: the
+// base pose and twist from q and v (quaternion w x y z and origin in world; angular and
+// origin velocity in world), each joint's angle and rate by name. Per iteration: the state
+// set (which invalidates DART's caches), the mass matrix, Coriolis + gravity and gravity
+// alone, and for each of the three frames (the feet at the same points, the torso) its
+// pose, its world Jacobian at the point (6 x all dofs) and J̇·v (the classic derivative,
+// in world axes, times the velocities), then the CoM, its linear Jacobian and J̇·v. DART
+// skips the work when a coordinate is set to the value it already holds, so the
+// iterations alternate between that state and one offset by 1e-9 in every coordinate:
+// each one recomputes everything, as the controller's update does at every tick. The
+// counter state_gap_m is the largest gap between the two models' CoM, frame origins and
+// CoM velocity at that state (the benchmark fails above 1e-9).
+struct DartDoubleSupport {
+  struct Frame {
+    dart::dynamics::BodyNode* body;
+    Eigen::Vector3d p_L;
+  };
+  dart::dynamics::SkeletonPtr skel;
+  std::vector<Frame> frames;
+  Eigen::VectorXd positions[2], velocities[2];
+  double mismatch_m = 0;  // the largest gap between the two models' CoM, frame origins and CoM velocity
+
+  DartDoubleSupport() {
+    DoubleSupport s;  // the state and the frames of BM_WbcModelTermsOnly
+    s.terms();
+    dart::utils::DartLoader loader;
+    const std::string urdf = s.robot.source;
+    loader.addPackageDirectory(s.robot.name, std::filesystem::path(urdf).parent_path().string());
+    skel = loader.parseSkeleton(dart::common::Uri::createFromPath(urdf));
+    if (!skel || !dynamic_cast<dart::dynamics::FreeJoint*>(skel->getRootJoint()))
+      throw std::runtime_error("DART could not load " + urdf + " with a floating base");
+    for (const wholebody::FrameSpec* f : {&kLeftFoot, &kRightFoot, &kTorso}) {
+      dart::dynamics::BodyNode* body = skel->getBodyNode(f->link);
+      if (!body) throw std::runtime_error("DART skeleton has no body '" + f->link + "'");
+      frames.push_back({body, f->p_L});
+    }
+    const auto n = static_cast<Eigen::Index>(skel->getNumDofs());
+    Eigen::VectorXd pos = Eigen::VectorXd::Zero(n), vel = Eigen::VectorXd::Zero(n);
+    // The base: q = [w x y z, origin], v = [angular, origin velocity] in world; DART's free
+    // joint: [rotation vector, origin] and [angular; linear] in the body's own axes.
+    const Eigen::Quaterniond quat(s.q[0], s.q[1], s.q[2], s.q[3]);
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = quat.normalized().toRotationMatrix();
+    X.translation() = s.q.segment<3>(4);
+    pos.head<6>() = dart::dynamics::FreeJoint::convertToPositions(X);
+    vel.head<3>() = X.linear().transpose() * s.v.segment<3>(0);
+    vel.segment<3>(3) = X.linear().transpose() * s.v.segment<3>(3);
+    const wholebody::Layout& layout = s.model.layout();
+    if (skel->getNumDofs() != static_cast<std::size_t>(layout.nv))
+      throw std::runtime_error("DART's skeleton and the controller's model differ in their number of dofs");
+    for (const wholebody::Joint& j : layout.joints) {
+      dart::dynamics::Joint* dj = skel->getJoint(j.name);
+      if (!dj || dj->getNumDofs() != 1) throw std::runtime_error("DART skeleton has no 1-dof joint '" + j.name + "'");
+      const auto i = static_cast<Eigen::Index>(dj->getIndexInSkeleton(0));
+      pos[i] = s.q[j.q_index];
+      vel[i] = s.v[j.v_index];
+    }
+    positions[0] = pos;
+    velocities[0] = vel;
+    positions[1] = pos.array() + 1e-9;
+    velocities[1] = vel.array() + 1e-9;
+
+    // The same state in both models: the CoM, the frames' origins and the CoM velocity.
+    skel->setPositions(pos);
+    skel->setVelocities(vel);
+    auto gap = [this](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { mismatch_m = std::max(mismatch_m, (a - b).norm()); };
+    gap(skel->getCOM(), s.data.com);
+    gap(skel->getCOMLinearVelocity(), s.data.J_com * s.v);
+    for (std::size_t k = 0; k < frames.size(); ++k)
+      gap(frames[k].body->getWorldTransform() * frames[k].p_L, s.data.frames[k].X_WF.translation());
+  }
+
+  void terms(int which) {
+    skel->setPositions(positions[which]);
+    skel->setVelocities(velocities[which]);
+    const Eigen::VectorXd& dq = velocities[which];
+    benchmark::DoNotOptimize(skel->getMassMatrix().data());
+    benchmark::DoNotOptimize(skel->getCoriolisAndGravityForces().data());
+    benchmark::DoNotOptimize(skel->getGravityForces().data());
+    for (const Frame& f : frames) {
+      const Eigen::Isometry3d X = f.body->getWorldTransform();
+      const Eigen::Vector3d p = X * f.p_L;
+      // The skeleton's versions: 6 x (all dofs), as the controller's (a body's own are
+      // 6 x the dofs it depends on).
+      const dart::math::Jacobian J = skel->getWorldJacobian(f.body, f.p_L);
+      const Eigen::Vector6d Jdot_v = skel->getJacobianClassicDeriv(f.body, f.p_L) * dq;
+      benchmark::DoNotOptimize(p.data());
+      benchmark::DoNotOptimize(J.data());
+      benchmark::DoNotOptimize(Jdot_v.data());
+    }
+    const Eigen::Vector3d com = skel->getCOM();
+    const dart::math::LinearJacobian J_com = skel->getCOMLinearJacobian();
+    const Eigen::Vector3d com_Jdot_v = skel->getCOMLinearJacobianDeriv() * dq;
+    benchmark::DoNotOptimize(com.data());
+    benchmark::DoNotOptimize(J_com.data());
+    benchmark::DoNotOptimize(com_Jdot_v.data());
+  }
+};
+
+void BM_DartModelTerms(benchmark::State& state) {
+  DartDoubleSupport s;
+  if (s.mismatch_m > 1e-9) state.SkipWithError("DART's state differs from the controller model's");
+  state.counters["state_gap_m"] = s.mismatch_m;
+  int which = 0;
+  for (auto _ : state) {
+    s.terms(which);
+    which ^= 1;
+  }
+}
+BENCHMARK(BM_DartModelTerms);
+#endif
 
 // The controller fed a still robot in its stance posture, advanced to the phase asked
 // for (range 0: double support, at the first step's start; 1: mid-swing; range 1: the
