@@ -1,10 +1,23 @@
 // Real-time factor of the shipped scenarios (simulated time / wall time), each variant
 // run for 1 s of simulated time without frames, through the same path as
-// `dmbd simulate` (run_variant: plant, controllers as loop programs, sensors, thermals).
+// `dmbd simulate` (run_variant: plant, controllers as loop programs, sensors, thermals);
+// and of Simbody's Atlas standing on its feet's boxes (tests/support/atlas_scenario.hpp;
+// skipped where Debian's simbody docs are absent), so that a robot with box feet and 29
+// joint loops is measured beside DRACO's spheres.
+//
+// --write_atlas=DIR writes DIR/atlas_v4_free_pelvis.urdf and DIR/atlas.yaml (10 s), the
+// same scenario for `dmbd simulate` (to time it against another build).
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
+#include "atlas_scenario.hpp"
+#include "dmbd/model/robot_description.hpp"
 #include "dmbd/scenario/scenario.hpp"
 
 namespace {
@@ -35,4 +48,56 @@ BENCHMARK_CAPTURE(scenario_rtf, position_controllers, std::string("position_cont
 BENCHMARK_CAPTURE(scenario_rtf, thermal, std::string("thermal"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(scenario_rtf, standing, std::string("standing"))->Unit(benchmark::kMillisecond)->Iterations(1);
 
-BENCHMARK_MAIN();
+namespace {
+
+// Decompresses Simbody's Atlas into dir and writes its standing scenario there; returns
+// the scenario's path, or "" when the URDF is absent.
+std::string write_atlas(const std::string& dir, double duration_s) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(dmbd::test::atlas::kAtlasGz)) return "";
+  fs::create_directories(dir);
+  const std::string urdf = dir + "/atlas_v4_free_pelvis.urdf";
+  if (std::system(("gzip -dc '" + std::string(dmbd::test::atlas::kAtlasGz) + "' > '" + urdf + "'").c_str()) != 0) return "";
+  dmbd::model::UrdfOptions o;
+  o.load_meshes = false;
+  const auto robot = dmbd::model::load_urdf(urdf, o);
+  const std::string path = dir + "/atlas.yaml";
+  std::ofstream(path) << dmbd::test::atlas::scenario_text(robot, urdf, duration_s, "");
+  return path;
+}
+
+void atlas_rtf(benchmark::State& st) {
+  const std::string dir = (std::filesystem::temp_directory_path() / "dmbd_bench_atlas").string();
+  const std::string path = write_atlas(dir, 1.0);
+  if (path.empty()) {
+    st.SkipWithError("Simbody's Atlas URDF is absent");
+    return;
+  }
+  const auto s = dmbd::scenario::load_scenario(path);
+  double sim = 0, wall = 0;
+  for (auto _ : st) {
+    const auto r = dmbd::scenario::run_variant(s, s.variants[0], {});
+    sim += 1.0;
+    wall += r.wall_s;
+  }
+  st.counters["rtf"] = sim / wall;
+}
+
+}  // namespace
+
+BENCHMARK(atlas_rtf)->Name("scenario_rtf/atlas_standing")->Unit(benchmark::kMillisecond)->Iterations(1);
+
+int main(int argc, char** argv) {
+  const char* flag = "--write_atlas=";
+  for (int i = 1; i < argc; ++i)
+    if (std::strncmp(argv[i], flag, std::strlen(flag)) == 0) {
+      const std::string path = write_atlas(argv[i] + std::strlen(flag), 10.0);
+      std::printf("%s\n", path.empty() ? "Simbody's Atlas URDF is absent" : ("wrote " + path).c_str());
+      return path.empty() ? 1 : 0;
+    }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
