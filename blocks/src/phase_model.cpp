@@ -1,6 +1,6 @@
 #include "phase_model.hpp"
 
-#include "vector_clones.hpp"
+#include "dmbd/base/vector_clones.hpp"
 
 #include <algorithm>
 #include <cmath>

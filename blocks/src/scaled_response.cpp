@@ -1,6 +1,6 @@
 #include "scaled_response.hpp"
 
-#include "vector_clones.hpp"
+#include "dmbd/base/vector_clones.hpp"
 
 #include <algorithm>
 #include <cmath>

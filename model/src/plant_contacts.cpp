@@ -59,21 +59,30 @@ void PlantDynamics::add_contacts(double h) {
   add_rim_contacts(h);
 }
 
+// The spheres of one body (a foot's four) gathered at its origin and projected through its
+// frame Jacobian once (add_body_terms) instead of one 3 x m point Jacobian each.
 void PlantDynamics::add_sphere_contacts(double h) {
+  BodyTerms t;
   for (std::size_t i = 0; i < contact_.spheres.size(); ++i) {
     const ContactSphere& sp = contact_.spheres[i];
+    if (sp.body != t.body) {
+      add_body_terms(t);
+      t = BodyTerms();
+      t.body = sp.body;
+      t.o = kernel_.origin(sp.body);
+    }
     const Eigen::Vector3d center = world_point(sp.body, sp.center_B);
     const double pen = sp.radius_m - ground_.height(center);
     if (!(pen > 0)) continue;
     const Eigen::Vector3d p = center - sp.radius_m * ground_.n();
-    const Eigen::Vector3d v = point_columns(sp.body, p);
+    const Eigen::Vector3d v = kernel_.point_velocity(sp.body, p);
     const Eigen::Vector2d offset =
         anchors[i].active ? Eigen::Vector2d(ground_.tangent(p) - anchors[i].anchor) : Eigen::Vector2d::Zero();
     SphereContact sc = sphere_contact(opt_.contact_params, sp.radius_m, pen, ground_.to_ground(v), offset);
     ground_.to_world(sc);
-    const std::vector<int>& mob = kernel_.body_mobilities(sp.body);
-    add_point_term(mob, static_cast<int>(mob.size()), sc.force_W, h * sc.D + h * h * sc.K, &sc.K, &v);
+    t.add(p, sc.force_W, h * sc.D + h * h * sc.K, sc.K * v);
   }
+  add_body_terms(t);
 }
 
 void PlantDynamics::add_point_contacts(double h) {

@@ -128,7 +128,7 @@ PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
   r_ = kv_ = Eigen::VectorXd::Zero(nv());
   c_tree_ = Eigen::VectorXd::Zero(ntv_);
   G_ = WG_ = Eigen::Matrix3Xd::Zero(3, nv());
-  J6_ = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, nv());
+  J6_ = WJ6_ = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, nv());
   idx_.reserve(static_cast<std::size_t>(nv()));
 }
 
@@ -194,7 +194,7 @@ void PlantDynamics::add_actuators(double h) {
     for (int a = 0; a < n; ++a) {
       r_[idx[a]] += t.f[a];
       kv_[idx[a]] += kv[a];
-      for (int b = 0; b < n; ++b) A_(idx[a], idx[b]) += W(a, b);
+      for (int b = 0; b <= a; ++b) A_(idx[a], idx[b]) += W(a, b);  // lower triangle (idx ascending)
     }
   }
 }
@@ -238,8 +238,40 @@ void PlantDynamics::add_point_term(const std::vector<int>& idx, int cols, const 
   }
   if (W.isZero(0)) return;
   WG_.leftCols(cols).noalias() = W * G;
-  for (int a = 0; a < cols; ++a)
-    for (int b = 0; b < cols; ++b) A_(idx[static_cast<std::size_t>(a)], idx[static_cast<std::size_t>(b)]) += G.col(a).dot(WG_.col(b));
+  for (int a = 0; a < cols; ++a)  // the lower triangle (idx ascending)
+    for (int b = 0; b <= a; ++b) A_(idx[static_cast<std::size_t>(a)], idx[static_cast<std::size_t>(b)]) += G.col(a).dot(WG_.col(b));
+}
+
+void PlantDynamics::BodyTerms::add(const Eigen::Vector3d& p, const Eigen::Vector3d& f, const Eigen::Matrix3d& W,
+                                   const Eigen::Vector3d& k) {
+  const Eigen::Vector3d r = p - o;
+  Eigen::Matrix3d X;  // -[r]x: v_p = v_o + omega x r = v_o + X omega
+  X << 0, r.z(), -r.y(), -r.z(), 0, r.x(), r.y(), -r.x(), 0;
+  const Eigen::Matrix3d WX = W * X;
+  W6.topLeftCorner<3, 3>().noalias() += X.transpose() * WX;
+  W6.topRightCorner<3, 3>().noalias() += X.transpose() * W;
+  W6.bottomLeftCorner<3, 3>() += WX;
+  W6.bottomRightCorner<3, 3>() += W;
+  f6.head<3>() += r.cross(f);  // X^T f
+  f6.tail<3>() += f;
+  k6.head<3>() += r.cross(k);
+  k6.tail<3>() += k;
+  any = true;
+}
+
+void PlantDynamics::add_body_terms(const BodyTerms& t) {
+  if (!t.any) return;
+  const std::vector<int>& mob = kernel_.body_mobilities(t.body);
+  const int m = static_cast<int>(mob.size());
+  kernel_.frame_jacobian_columns(t.body, t.o, J6_.leftCols(m));
+  const auto J = J6_.leftCols(m);
+  WJ6_.leftCols(m).noalias() = t.W6 * J;
+  for (int a = 0; a < m; ++a) {
+    const auto ia = static_cast<Eigen::Index>(mob[static_cast<std::size_t>(a)]);
+    r_[ia] += J.col(a).dot(t.f6);
+    kv_[ia] += J.col(a).dot(t.k6);
+    for (int b = 0; b <= a; ++b) A_(ia, mob[static_cast<std::size_t>(b)]) += J.col(a).dot(WJ6_.col(b));  // lower triangle
+  }
 }
 
 Eigen::Vector3d PlantDynamics::housing_moment() const {
@@ -253,7 +285,7 @@ Eigen::Vector3d PlantDynamics::housing_moment() const {
 
 double PlantDynamics::kinetic_energy() {
   assemble(0.0);
-  return 0.5 * V_.dot(A_ * V_);
+  return 0.5 * V_.dot(A_.selfadjointView<Eigen::Lower>() * V_);
 }
 
 double PlantDynamics::potential_energy() const {

@@ -14,7 +14,10 @@
 //     corners and mesh hull vertices by contact.hpp, cylinder rims by rim_contact.hpp;
 //     plant_contacts.cpp) and external point forces; input joint torques.
 // assemble(h) writes A = M + h D + h^2 K, r = f - c and kv = K V, where K and D are the
-// stiff forces' negative position and velocity derivatives (h = 0: A = M).
+// stiff forces' negative position and velocity derivatives (h = 0: A = M). A's terms
+// are added to its lower triangle only (the tree's mass matrix is written whole): the
+// solves factor that triangle and read nothing above it, as Eigen's LLT did, so a
+// contact's unsymmetric stiffness enters the step through its lower half.
 // Nothing here allocates after construction.
 #include "contact.hpp"
 #include "contact_elements.hpp"
@@ -166,6 +169,20 @@ class PlantDynamics {
   // Jacobian has the columns `idx` (G is 3 x idx.size()).
   void add_point_term(const std::vector<int>& idx, int cols, const Eigen::Vector3d& f, const Eigen::Matrix3d& W,
                       const Eigen::Matrix3d* K = nullptr, const Eigen::Vector3d* Gv = nullptr);
+  // Point terms of one body gathered at a point o of it, as wrenches [moment about o;
+  // force] and a 6 x 6 W6 on the spatial velocity [omega; v_o]: a point term at p (f, W,
+  // k) adds B^T f, B^T W B, B^T k with B = [-[p - o]x, I] (v_p = B [omega; v_o]).
+  struct BodyTerms {
+    int body = -1;
+    Eigen::Vector3d o = Eigen::Vector3d::Zero();
+    Eigen::Matrix<double, 6, 6> W6 = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> f6 = Eigen::Matrix<double, 6, 1>::Zero(), k6 = Eigen::Matrix<double, 6, 1>::Zero();
+    bool any = false;
+    void add(const Eigen::Vector3d& p, const Eigen::Vector3d& f, const Eigen::Matrix3d& W, const Eigen::Vector3d& k);
+  };
+  // A(idx, idx) += J^T W6 J, r(idx) += J^T f6, kv(idx) += J^T k6 with J the body's frame
+  // Jacobian at o (6 x its mobilities): the body's point terms projected at once.
+  void add_body_terms(const BodyTerms& t);
 
   TreeKernel kernel_;
   PlantOptions opt_;
@@ -182,7 +199,7 @@ class PlantDynamics {
   Eigen::MatrixXd A_;
   Eigen::VectorXd r_, kv_, c_tree_;
   Eigen::Matrix3Xd G_, WG_;                // scratch: compact point Jacobian, W times it
-  Eigen::Matrix<double, 6, Eigen::Dynamic> J6_;  // scratch: compact frame Jacobian
+  Eigen::Matrix<double, 6, Eigen::Dynamic> J6_, WJ6_;  // scratch: compact frame Jacobian, W6 times it
   std::vector<int> idx_;                   // scratch: columns of a point term
 };
 

@@ -1,5 +1,7 @@
 #include "plant_steppers.hpp"
 
+#include "dense_cholesky.hpp"
+
 #include "dmbd/model/error.hpp"
 
 #include <boost/numeric/odeint.hpp>
@@ -13,7 +15,7 @@ namespace dmbd::model::detail {
 
 namespace odeint = boost::numeric::odeint;
 
-LockedSolver::LockedSolver(int n) : A_(n, n), llt_(n) {}
+LockedSolver::LockedSolver(int n) : A_(n, n) {}
 
 bool LockedSolver::solve(const Eigen::MatrixXd& A, const std::vector<char>& locked, Eigen::Ref<Eigen::VectorXd> b) {
   A_ = A;
@@ -24,9 +26,8 @@ bool LockedSolver::solve(const Eigen::MatrixXd& A, const std::vector<char>& lock
     A_.col(k).setZero();
     A_(k, k) = 1.0;
   }
-  llt_.compute(A_);
-  if (llt_.info() != Eigen::Success) return false;
-  llt_.solveInPlace(b);
+  if (!cholesky_in_place(A_)) return false;
+  cholesky_solve_in_place(A_, b);
   return b.allFinite();
 }
 

@@ -30,8 +30,7 @@ class LockedSolver {
   bool solve(const Eigen::MatrixXd& A, const std::vector<char>& locked, Eigen::Ref<Eigen::VectorXd> b);
 
  private:
-  Eigen::MatrixXd A_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::MatrixXd A_;  // the locked copy of A, then its Cholesky factor
 };
 
 class FixedStepper {

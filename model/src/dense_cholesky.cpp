@@ -1,0 +1,71 @@
+#include "dense_cholesky.hpp"
+
+#include <cmath>
+
+#include "dmbd/base/vector_clones.hpp"
+
+namespace dmbd::model::detail {
+
+namespace {
+
+// y[i] -= l0 x0[i], then l1 x1[i], l2 x2[i], l3 x3[i] (each element in that order, so the
+// result is that of four single updates); the columns never overlap.
+inline void update4(double* __restrict y, const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
+             const double* __restrict x3, double l0, double l1, double l2, double l3, Eigen::Index m) {
+  for (Eigen::Index i = 0; i < m; ++i) {
+    double v = y[i];
+    v -= l0 * x0[i];
+    v -= l1 * x1[i];
+    v -= l2 * x2[i];
+    v -= l3 * x3[i];
+    y[i] = v;
+  }
+}
+
+inline void update1(double* __restrict y, const double* __restrict x, double l, Eigen::Index m) {
+  for (Eigen::Index i = 0; i < m; ++i) y[i] -= l * x[i];
+}
+
+}  // namespace
+
+// Column j of L: v = A(j:n, j) - sum over k < j of L(j, k) L(j:n, k), then v / sqrt(v_j).
+DMBD_VECTOR_CLONES bool cholesky_in_place(Eigen::MatrixXd& A) {
+  const Eigen::Index n = A.rows();
+  double* a = A.data();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double* cj = a + j * n;
+    const Eigen::Index m = n - j;  // rows j..n-1
+    Eigen::Index k = 0;
+    for (; k + 4 <= j; k += 4) {
+      const double *c0 = a + k * n + j, *c1 = c0 + n, *c2 = c1 + n, *c3 = c2 + n;
+      update4(cj + j, c0, c1, c2, c3, c0[0], c1[0], c2[0], c3[0], m);
+    }
+    for (; k < j; ++k) update1(cj + j, a + k * n + j, a[k * n + j], m);
+    const double d = cj[j];
+    if (!(d > 0.0) || !std::isfinite(d)) return false;
+    const double s = std::sqrt(d);
+    cj[j] = s;
+    for (Eigen::Index i = j + 1; i < n; ++i) cj[i] /= s;
+  }
+  return true;
+}
+
+DMBD_VECTOR_CLONES void cholesky_solve_in_place(const Eigen::MatrixXd& L, Eigen::Ref<Eigen::VectorXd> b) {
+  const Eigen::Index n = L.rows();
+  const double* l = L.data();
+  double* x = b.data();
+  for (Eigen::Index j = 0; j < n; ++j) {  // L y = b, a column at a time
+    const double* cj = l + j * n;
+    x[j] /= cj[j];
+    const double yj = x[j];
+    for (Eigen::Index i = j + 1; i < n; ++i) x[i] -= yj * cj[i];
+  }
+  for (Eigen::Index j = n - 1; j >= 0; --j) {  // Lᵀ x = y: row j of Lᵀ is column j of L
+    const double* cj = l + j * n;
+    double s = x[j];
+    for (Eigen::Index i = j + 1; i < n; ++i) s -= cj[i] * x[i];
+    x[j] = s / cj[j];
+  }
+}
+
+}  // namespace dmbd::model::detail
