@@ -13,9 +13,14 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <exception>
 #include <filesystem>
 #include <limits>
+#include <mutex>
 #include <optional>
+#include <thread>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -327,6 +332,123 @@ Step row_step(const sim::Log& log, const scenario::FrameSetup& f) {
   return st;
 }
 
+// The frames' files and the video written on two threads while the next frames are
+// rendered: a frame is copied into one of a few buffers made once (the renderer's
+// image is overwritten by the next render), the PNG writer encodes and writes it, the
+// video writer feeds it to the encoder, each in the frames' order, and the buffer is
+// used again when both are done with it. A frame waits for a free buffer, so at most
+// kBuffers frames are in flight. An error on either thread (a full disk, a folder that
+// cannot be written) stops both, and push() or finish() rethrows it as it was thrown
+// (the same type and message the command line turns into its one line and exit code);
+// the video's temporary file is removed by its writer, and a PNG is written whole
+// (write_file_atomic) or not at all. Destroyed without finish() (an error on the
+// rendering side), it stops both threads without writing the frames still queued.
+class FrameWriter {
+ public:
+  static constexpr int kBuffers = 4;
+
+  FrameWriter(const std::string& dir, double video_fps, int w, int h)
+      : dir_(dir), video_((fs::path(dir) / "video.mp4").string(), video_fps) {
+    for (auto& b : buffers_) b.image.create(h, w, CV_8UC3);
+    png_thread_ = std::thread([this] { run(kPng); });
+    video_thread_ = std::thread([this] { run(kVideo); });
+  }
+  ~FrameWriter() { stop(); }
+  FrameWriter(const FrameWriter&) = delete;
+  FrameWriter& operator=(const FrameWriter&) = delete;
+
+  // Queues a copy of `image` to be written as `name` (relative to the folder) and
+  // appended to the video. Blocks while every buffer is in use.
+  void push(const cv::Mat& image, const std::string& name) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    space_.wait(lock, [&] { return error_ || in_flight_ < kBuffers; });
+    if (error_) std::rethrow_exception(error_);
+    Buffer& b = buffers_[next_ % kBuffers];
+    lock.unlock();  // the buffer is free: neither thread reads it until it is queued
+    image.copyTo(b.image);  // same size and type: no allocation
+    b.name = name;
+    b.pending = 2;
+    lock.lock();
+    ++next_;
+    ++in_flight_;
+    work_.notify_all();
+  }
+
+  // Waits for every frame to be written and finishes the video (renamed into place).
+  void finish() {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      closing_ = true;
+      work_.notify_all();
+    }
+    join();
+    if (error_) std::rethrow_exception(error_);
+    video_.finish();
+  }
+
+ private:
+  enum Role { kPng = 0, kVideo = 1 };
+  struct Buffer {
+    cv::Mat image;
+    std::string name;
+    int pending = 0;  // threads yet to write it
+  };
+
+  void run(Role role) {
+    std::size_t k = 0;  // this thread's next frame
+    for (;;) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      work_.wait(lock, [&] { return error_ || stopping_ || k < next_ || closing_; });
+      if (error_ || stopping_ || (k >= next_ && closing_)) return;
+      Buffer& b = buffers_[k % kBuffers];
+      lock.unlock();
+      try {
+        if (role == kPng)
+          write_file_atomic((fs::path(dir_) / b.name).string(), viz::encode_png(b.image));
+        else
+          video_.write(b.image);
+      } catch (...) {
+        lock.lock();
+        if (!error_) error_ = std::current_exception();
+        space_.notify_all();
+        work_.notify_all();
+        return;
+      }
+      lock.lock();
+      if (--b.pending == 0) {
+        --in_flight_;
+        space_.notify_all();
+      }
+      ++k;
+    }
+  }
+
+  void join() {
+    if (png_thread_.joinable()) png_thread_.join();
+    if (video_thread_.joinable()) video_thread_.join();
+  }
+
+  void stop() {
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      stopping_ = true;
+      work_.notify_all();
+    }
+    join();
+  }
+
+  std::string dir_;
+  viz::VideoWriter video_;  // written by the video thread only, finished after it ends
+  Buffer buffers_[kBuffers];
+  std::mutex mutex_;
+  std::condition_variable work_, space_;
+  std::size_t next_ = 0;  // frames queued so far
+  int in_flight_ = 0;     // buffers queued and not yet written by both threads
+  bool closing_ = false, stopping_ = false;
+  std::exception_ptr error_;
+  std::thread png_thread_, video_thread_;  // last: started once everything above exists
+};
+
 }  // namespace
 
 Frames write_frames(const scenario::ScenarioRun& run, const std::string& dir, const ReportOptions& options) {
@@ -357,8 +479,8 @@ Frames write_frames(const scenario::ScenarioRun& run, const std::string& dir, co
   out.video_fps = step.video_fps;
   out.speedup = step.speedup;
   fs::create_directories(fs::path(dir) / "frames");
-  viz::VideoWriter video((fs::path(dir) / "video.mp4").string(), out.video_fps);
   const viz::Camera cam = make_camera(s.frames, options, [&] { return robot_bounds(robot, r->log, cols, n, scene); }, w, h);
+  FrameWriter writer(dir, out.video_fps, w, h);
   for (std::size_t row = 0; row < r->log.rows(); row += n) {
     const auto X = link_poses(robot, r->log, cols, row);
     std::vector<Eigen::Isometry3d> X_drawn = X;
@@ -368,11 +490,10 @@ Frames write_frames(const scenario::ScenarioRun& run, const std::string& dir, co
         renderer.render(X_drawn, cam, overlays(robot, r->log, cols, row, X, s.name + "  |  " + out.variant));
     out.render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string name = fmt::format("frames/frame_{:05d}.png", out.frames.size());
-    write_file_atomic((fs::path(dir) / name).string(), viz::encode_png(img));
-    video.write(img);
+    writer.push(img, name);
     out.frames.push_back({name, r->log.time()[row]});
   }
-  video.finish();
+  writer.finish();
   return out;
 }
 

@@ -31,6 +31,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 
@@ -75,7 +76,7 @@ constexpr std::int64_t kHalfSub = kSub / 2;
 constexpr int kShadowN = 256;  // shadow map texels per side
 constexpr int kLutN = 4096;    // linear -> sRGB table entries over [0, 1]
 constexpr int kSkyN = 1024;    // sky colours over the elevation sine in [-1, 1]
-constexpr int kRowArrays = 9;  // float row buffers of the ground pass, W + 4 floats each
+constexpr int kRowArrays = 1;  // float row buffers of the sky, W + 4 floats each
 
 // ---------------------------------------------------------------------------------
 // Small helpers.
@@ -99,16 +100,7 @@ float clamp01(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
 typedef float v4f __attribute__((vector_size(16)));
 typedef int v4i __attribute__((vector_size(16)));
 v4f vset(float x) { return v4f{x, x, x, x}; }
-v4f vload(const float* p) {
-  v4f v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
 void vstore(float* p, v4f v) { std::memcpy(p, &v, sizeof v); }
-void vstore_int(std::int32_t* p, v4f v) {  // truncated
-  const v4i i = __builtin_convertvector(v, v4i);
-  std::memcpy(p, &i, sizeof i);
-}
 #if defined(__SSE2__)
 // x86-64: single instructions where the generic selects below would take four.
 v4f vmin(v4f a, v4f b) { return _mm_min_ps(a, b); }
@@ -121,7 +113,9 @@ v4f vfrac_dist(v4f x) {
   x = vmin(vmax(x, vset(-1e6f)), vset(1e6f));
   return vabs(x - _mm_cvtepi32_ps(_mm_cvtps_epi32(x)));
 }
+bool vany(v4i m) { return _mm_movemask_ps(_mm_castsi128_ps(reinterpret_cast<__m128i>(m))) != 0; }
 #else
+bool vany(v4i m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 v4f vmin(v4f a, v4f b) { return a < b ? a : b; }
 v4f vmax(v4f a, v4f b) { return a > b ? a : b; }
 v4f vabs(v4f a) { return a < vset(0.0f) ? -a : a; }
@@ -630,7 +624,6 @@ Renderer::Renderer(int width_px, int height_px) : width_(width_px), height_(heig
   shadow_n_ = kShadowN;
   sky_lut_.assign(3 * kSkyN, 0);
   row_.assign(std::size_t(kRowArrays) * (std::size_t(width_) + 4), 0.0f);
-  row_int_.assign(3 * (std::size_t(width_) + 4), 0);
   shadow_.assign(std::size_t(kShadowN) * kShadowN, 0.0f);
   shadow_tmp_.assign(std::size_t(kShadowN) * kShadowN, 0.0f);
   linear_to_srgb_.resize(kLutN);
@@ -789,6 +782,10 @@ const cv::Mat& Renderer::render(const std::vector<Eigen::Isometry3d>& X_WB, cons
     throw std::invalid_argument("viz::Renderer::render: " + std::to_string(X_WB.size()) + " body poses for " +
                                 std::to_string(body_count()) + " bodies");
   stats_ = Stats{};
+  if (cached_image_.empty()) {  // the kept background's buffers (draw_background_and_ground)
+    cached_image_.create(height_, width_, CV_8UC3);
+    cached_inv_depth_.create(height_, width_, CV_32F);
+  }
   const Eigen::Isometry3d X_CW = camera_from_world(camera);
   if (style_.shadows && style_.ground && camera.position.z() > 0)
     build_shadow_map(X_WB);
@@ -909,8 +906,8 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
   // Per row, the view rays d(c) = d0 + c du (world axes, camera-z component 1) hit the
   // ground (d_z < 0) on one contiguous run of columns, since d_z is affine in c. The sky
   // is a table lookup by the ray's elevation; the ground is computed four pixels at a
-  // time (GCC/Clang vector extensions: SSE on x86-64, NEON on ARM) into row buffers,
-  // then packed to bytes.
+  // time (GCC/Clang vector extensions: SSE on x86-64, NEON on ARM) in one pass, only
+  // the terms a segment of the run can need (below), and packed to bytes.
   const double f = focal_length_px(camera);
   const double cx = 0.5 * width_, cy = 0.5 * height_;
   const Eigen::Matrix3d R = X_WC.linear();
@@ -949,20 +946,9 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
   const float sh_x0 = static_cast<float>(shadow_x0_), sh_y0 = static_cast<float>(shadow_y0_),
               sh_inv = static_cast<float>(1.0 / shadow_texel_m_);
 
-  // Row buffers, each W + 4 floats (whole vectors past the run's end are harmless).
-  const std::size_t stride = std::size_t(W) + 4;
+  // Row buffer of W + 4 floats (whole vectors past the run's end are harmless): the
+  // sky's table indices.
   float* const ZB = row_.data();
-  float* const M1 = ZB + stride;  // minor grid line opacity
-  float* const M2 = M1 + stride;  // major
-  float* const AX = M2 + stride;  // x axis (y = 0)
-  float* const AY = AX + stride;  // y axis (x = 0)
-  float* const FD = AY + stride;  // fade to the horizon
-  float* const PX = FD + stride;  // hit point
-  float* const PY = PX + stride;
-  float* const DK = PY + stride;             // shadow: remaining light
-  std::int32_t* const RI = row_int_.data();  // colour bytes, as ints
-  std::int32_t* const GI = RI + stride;
-  std::int32_t* const BI = GI + stride;
 
   // Constants as vectors.
   const v4f lane{0.0f, 1.0f, 2.0f, 3.0f};
@@ -974,13 +960,36 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
   const v4f grid_on = vset(style_.grid ? 1.0f : 0.0f), axes_on = vset(style_.axes ? 1.0f : 0.0f);
   const v4f vfade0 = vset(fade0), vinv_fade = vset(1.0f / (fade1 - fade0));
   const v4f one = vset(1.0f), tiny = vset(1e-9f);
+  const v4f vsh_x0 = vset(sh_x0), vsh_y0 = vset(sh_y0), vsh_inv = vset(sh_inv), vN1 = vset(float(N - 1));
+
+  const bool grid = style_.grid, axes = style_.axes;
+  // The segments' bounds (in the ground pass) in double.
+  const double Cx_d = C.x(), Cy_d = C.y(), Cz_d = static_cast<float>(C.z());
+  const double Dux = du.x(), Duy = du.y(), Duz = du.z(), Dvx = dv.x(), Dvy = dv.y(), Dvz = dv.z();
+  // B | G << 8 | R << 16 per column (colours in [0, 255], rounded as the bytes are).
+  const auto pack_bgr = [](v4f r, v4f g, v4f b) {
+    return (__builtin_convertvector(b + vset(0.5f), v4i) & 255) | ((__builtin_convertvector(g + vset(0.5f), v4i) & 255) << 8) |
+           ((__builtin_convertvector(r + vset(0.5f), v4i) & 255) << 16);
+  };
+  // The plain ground's bytes: no line, no shadow, no fade.
+  const v4i plain = pack_bgr(vset(ground_c.r) * one, vset(ground_c.g) * one, vset(ground_c.b) * one);
 
   constexpr float kEps = 1e-6f;
-  for (int r = 0; r < height_; ++r) {
+  // One row. kAll: sky and ground; kShadedOnly: only the ground's segments that may be
+  // on the shadow map, within columns [col_lo, col_hi] (the rest of the row is the
+  // cached image's, drawn without shadow).
+  // The mode and the shadow are template parameters (std::integral_constant), so each
+  // of the three uses is compiled on its own with its branches folded.
+  enum RowMode { kAll, kShadedOnly };
+  const auto draw_row = [&](int r, auto mode_c, auto shadow_c, int col_lo, int col_hi) {
+    constexpr RowMode mode = static_cast<RowMode>(decltype(mode_c)::value);
+    constexpr bool shadow = decltype(shadow_c)::value;
     unsigned char* out = image_.ptr<unsigned char>(r);
     float* zrow = inv_depth_.ptr<float>(r);
-    std::int16_t* idrow = ids_.ptr<std::int16_t>(r);
-    std::fill(idrow, idrow + W, std::int16_t{-1});
+    if (mode == kAll) {
+      std::int16_t* idrow = ids_.ptr<std::int16_t>(r);
+      std::fill(idrow, idrow + W, std::int16_t{-1});
+    }
     const Eigen::Vector3f d0 = d00 + dv * float(r);
     const float dx0 = d0.x(), dy0 = d0.y(), dz0 = d0.z();
 
@@ -1022,81 +1031,272 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
       }
       std::fill(zrow + c_begin, zrow + c_end, 0.0f);
     };
-    if (g1c < g0) {
+    if (mode == kShadedOnly) {
+      if (g1c < g0 || !shadow) return;
+    } else if (g1c < g0) {
       sky(0, W);
-      continue;
+      return;
+    } else {
+      sky(0, g0);
+      sky(g1c + 1, W);
     }
-    sky(0, g0);
-    sky(g1c + 1, W);
 
-    // Ground pass 1: hit point P = C + s d (s = -C_z / d_z, the camera depth), 1/depth,
-    // the pixel's footprint in world metres along x and y (|dP/dc| + |dP/dr|), line
-    // opacities and the fade.
+    // The ground, four columns at a time in one pass: the hit point P = C + s d
+    // (s = -C_z / d_z, the camera depth), 1/depth, the pixel's footprint in world metres
+    // along x and y (|dP/dc| + |dP/dr|), the grid lines' and axes' opacities, the shadow,
+    // the fade, then bytes.
+    //
+    // Most of the ground is plain: no line reaches it, it is off the shadow map and
+    // nearer than the fade. The run is cut into segments of eight columns, and each is
+    // classified first from bounds that hold over the whole segment (below), in double;
+    // what a segment cannot need is skipped: the lines' opacities (two divisions and four
+    // distances to the nearest line a column), the shadow lookup, the fade. Each bound is
+    // looser than the per-pixel formula it stands for (by 1% and an absolute margin far
+    // above float rounding), so a skipped term is one the formula makes exactly zero,
+    // and a blend with a zero weight is a no-op (a + (b - a) * 0 == a): the bytes are
+    // those of blending every pixel. Bounds over a segment [a, b], d(c) = d0 + c du:
+    //   * the hit's x (and y) is monotone in c (d_z keeps its sign), so it lies between
+    //     its values at a and b;
+    //   * the footprint along x is C_z / d_z^2 (|K_x| + |L_x(c)|) with K_x =
+    //     du_x d0_z - d0_x du_z and L_x(c) = dv_x d_z(c) - d_x(c) dv_z affine in c, so it
+    //     is at most C_z max(1 / d_z^2 at a, b) (|K_x| + max |L_x| at a, b);
+    //   * a line k g (g the spacing) reaches the segment only if k g is within the
+    //     reach (1, 1.25, 1.75 footprints: minor, major, axes) of the hit's range;
+    //   * the camera depth s is monotone in c: no fade while s <= fade start at a and b;
+    //   * the shadow map's texel coordinates are affine in the hit point, so monotone
+    //     in c: none while both ends are off the map on the same side.
     const v4f vdx0 = vset(dx0), vdy0 = vset(dy0), vdz0 = vset(dz0);
-    for (int c = g0; c <= g1c; c += 4) {
-      const v4f vc = vset(float(c)) + lane;
-      const v4f dx = vdx0 + dux * vc, dy = vdy0 + duy * vc, dz = vdz0 + duz * vc;
-      const v4f k = one / dz;
-      const v4f s = -Cz * k;
-      const v4f px = Cx + s * dx, py = Cy + s * dy;
-      const v4f cxz = duz * k, rvz = dvz * k;
-      const v4f fpx = s * (vabs(dux - dx * cxz) + vabs(dvx - dx * rvz)) + tiny;
-      const v4f fpy = s * (vabs(duy - dy * cxz) + vabs(dvy - dy * rvz)) + tiny;
-      const v4f ipx = one / fpx, ipy = one / fpy, ipmin = vmin(ipx, ipy);
-      // Minor lines 1 px wide, fading out between 8 and 3 px apart; major 1.5 px, 6 to 2 px.
-      const v4f a1 = grid_on * vclamp01((vg1 * ipmin - vset(3.0f)) * vset(0.2f));
-      const v4f a2 = grid_on * vclamp01((vg2 * ipmin - vset(2.0f)) * vset(0.25f));
-      const v4f m1 = a1 * vmax(vclamp01(one - vfrac_dist(px * vig1) * vg1 * ipx),
-                               vclamp01(one - vfrac_dist(py * vig1) * vg1 * ipy));
-      const v4f m2 = a2 * vmax(vclamp01(vset(1.25f) - vfrac_dist(px * vig2) * vg2 * ipx),
-                               vclamp01(vset(1.25f) - vfrac_dist(py * vig2) * vg2 * ipy));
-      const v4f t = vclamp01((s - vfade0) * vinv_fade);
-      vstore(ZB + c, -dz / Cz);
-      vstore(M1 + c, m1);
-      vstore(M2 + c, m2);
-      vstore(AY + c, axes_on * vclamp01(vset(1.75f) - vabs(px) * ipx));
-      vstore(AX + c, axes_on * vclamp01(vset(1.75f) - vabs(py) * ipy));
-      vstore(FD + c, t * t * (vset(3.0f) - vset(2.0f) * t));
-      vstore(PX + c, px);
-      vstore(PY + c, py);
-      vstore(DK + c, one);
-    }
-    std::copy(ZB + g0, ZB + g1c + 1, zrow + g0);
-    // Shadow: bilinear lookup in the blurred map, only where the hit is on it.
-    if (shadow) {
-      for (int c = g0; c <= g1c; ++c) {
-        const float u = (PX[c] - sh_x0) * sh_inv - 0.5f, v = (PY[c] - sh_y0) * sh_inv - 0.5f;
-        if (!(u > 0.0f && v > 0.0f && u < float(N - 1) && v < float(N - 1))) continue;
-        const int iu = static_cast<int>(u), iv = static_cast<int>(v);
-        const float fu = u - float(iu), fv = v - float(iv);
-        const float* t0 = shadow_.data() + std::size_t(iv) * N + iu;
-        const float* t1 = t0 + N;
-        const float sv = (t0[0] * (1 - fu) + t0[1] * fu) * (1 - fv) + (t1[0] * (1 - fu) + t1[1] * fu) * fv;
-        DK[c] = 1.0f - shadow_k * sv;
+    const v4f zero = vset(0.0f);
+    const auto blend = [](v4f a, float b, v4f t) { return a + (vset(b) - a) * t; };
+    const double Dx0 = dx0, Dy0 = dy0, Dz0 = dz0;
+    const double Kx = Dux * Dz0 - Dx0 * Duz, Ky = Duy * Dz0 - Dy0 * Duz;
+    const double Lx0 = Dvx * Dz0 - Dx0 * Dvz, Lx1 = Dvx * Duz - Dux * Dvz;
+    const double Ly0 = Dvy * Dz0 - Dy0 * Dvz, Ly1 = Dvy * Duz - Duy * Dvz;
+    struct End {
+      double px, py, s, iz2, lx, ly;
+    };
+    const auto end_at = [&](int c) {
+      const double dz = Dz0 + c * Duz, s = -Cz_d / dz;
+      return End{Cx_d + s * (Dx0 + c * Dux), Cy_d + s * (Dy0 + c * Duy), s, 1.0 / (dz * dz),
+                 std::fabs(Lx0 + c * Lx1), std::fabs(Ly0 + c * Ly1)};
+    };
+    // Whether a line k g (an integer k) lies in [lo, hi]: the one nearest the middle
+    // does if any does (rounded to nearest by adding and subtracting 1.5 2^52).
+    const auto line_in = [](double lo, double hi, double inv_g, double g) {
+      const double mid = 0.5 * (lo + hi) * inv_g;
+      const double k = (mid + 6755399441055744.0) - 6755399441055744.0;
+      return std::fabs(mid - k) * g <= 0.5 * (hi - lo);
+    };
+    const double ig1 = 1.0 / g1, ig2 = 1.0 / g2;
+    for (int a = g0; a <= g1c; a += 8) {
+      const int b = std::min(a + 7, g1c);
+      if (mode == kShadedOnly && (b < col_lo || a > col_hi)) continue;
+      const End ea = end_at(a), eb = end_at(b);
+      const double iz2 = std::max(ea.iz2, eb.iz2);
+      const double rx = 1.01 * Cz_d * iz2 * (std::fabs(Kx) + std::max(ea.lx, eb.lx)) + 1e-6;
+      const double ry = 1.01 * Cz_d * iz2 * (std::fabs(Ky) + std::max(ea.ly, eb.ly)) + 1e-6;
+      const double x_lo = std::min(ea.px, eb.px) - 1e-6 * (1 + std::fabs(ea.px) + std::fabs(eb.px));
+      const double x_hi = std::max(ea.px, eb.px) + 1e-6 * (1 + std::fabs(ea.px) + std::fabs(eb.px));
+      const double y_lo = std::min(ea.py, eb.py) - 1e-6 * (1 + std::fabs(ea.py) + std::fabs(eb.py));
+      const double y_hi = std::max(ea.py, eb.py) + 1e-6 * (1 + std::fabs(ea.py) + std::fabs(eb.py));
+      // Which lines reach the segment: minor and major lines of constant x and of
+      // constant y, the y axis (x = 0) and the x axis (y = 0).
+      const bool mx1 = grid && line_in(x_lo - rx, x_hi + rx, ig1, g1);
+      const bool my1 = grid && line_in(y_lo - ry, y_hi + ry, ig1, g1);
+      const bool mx2 = grid && line_in(x_lo - 1.25 * rx, x_hi + 1.25 * rx, ig2, g2);
+      const bool my2 = grid && line_in(y_lo - 1.25 * ry, y_hi + 1.25 * ry, ig2, g2);
+      const bool axis_y = axes && x_lo - 1.75 * rx <= 0 && x_hi + 1.75 * rx >= 0;
+      const bool axis_x = axes && y_lo - 1.75 * ry <= 0 && y_hi + 1.75 * ry >= 0;
+      const bool minor = mx1 || my1, major = mx2 || my2;
+      const bool lines = minor || major || axis_y || axis_x;
+      const bool fade = std::max(ea.s, eb.s) * (1 + 1e-5) > fade0;
+      bool shaded = false;
+      if (shadow) {
+        const double m = 1e-3;  // texels
+        const double ua = (ea.px - sh_x0) * sh_inv - 0.5, ub = (eb.px - sh_x0) * sh_inv - 0.5;
+        const double va = (ea.py - sh_y0) * sh_inv - 0.5, vb = (eb.py - sh_y0) * sh_inv - 0.5;
+        shaded = std::max(ua, ub) > -m && std::min(ua, ub) < N - 1 + m && std::max(va, vb) > -m &&
+                 std::min(va, vb) < N - 1 + m;
+      }
+      if (mode == kShadedOnly && !shaded) continue;
+      for (int c = a; c <= b; c += 4) {
+        const int n = std::min(4, g1c + 1 - c);  // columns of this vector in the run
+        const v4f vc = vset(float(c)) + lane;
+        const v4f dz = vdz0 + duz * vc;
+        const v4f zb = -dz / Cz;
+        if (n == 4) {
+          vstore(zrow + c, zb);
+        } else {
+          for (int i = 0; i < n; ++i) zrow[c + i] = zb[i];
+        }
+        v4i bgr = plain;
+        if (lines || fade || shaded) {
+          const v4f dx = vdx0 + dux * vc, dy = vdy0 + duy * vc;
+          const v4f k = one / dz;
+          const v4f s = -Cz * k;
+          const v4f px = Cx + s * dx, py = Cy + s * dy;
+          v4f m1 = zero, m2 = zero, ay = zero, ax = zero;
+          if (lines) {
+            // The terms the segment's bounds leave out are zero (a clamp of a negative
+            // number); a max with zero, or a blend by zero, is left out with them.
+            const v4f cxz = duz * k, rvz = dvz * k;
+            const v4f fpx = s * (vabs(dux - dx * cxz) + vabs(dvx - dx * rvz)) + tiny;
+            const v4f fpy = s * (vabs(duy - dy * cxz) + vabs(dvy - dy * rvz)) + tiny;
+            const v4f ipmin = one / vmax(fpx, fpy);  // == min(1 / fpx, 1 / fpy), rounded alike
+            const v4f ipx = (mx1 || mx2 || axis_y) ? one / fpx : zero;
+            const v4f ipy = (my1 || my2 || axis_x) ? one / fpy : zero;
+            // Minor lines 1 px wide, fading out between 8 and 3 px apart; major 1.5 px, 6 to 2 px.
+            if (minor) {
+              const v4f a1 = grid_on * vclamp01((vg1 * ipmin - vset(3.0f)) * vset(0.2f));
+              const v4f tx = mx1 ? vclamp01(one - vfrac_dist(px * vig1) * vg1 * ipx) : zero;
+              const v4f ty = my1 ? vclamp01(one - vfrac_dist(py * vig1) * vg1 * ipy) : zero;
+              m1 = a1 * (mx1 && my1 ? vmax(tx, ty) : mx1 ? tx : ty);
+            }
+            if (major) {
+              const v4f a2 = grid_on * vclamp01((vg2 * ipmin - vset(2.0f)) * vset(0.25f));
+              const v4f tx = mx2 ? vclamp01(vset(1.25f) - vfrac_dist(px * vig2) * vg2 * ipx) : zero;
+              const v4f ty = my2 ? vclamp01(vset(1.25f) - vfrac_dist(py * vig2) * vg2 * ipy) : zero;
+              m2 = a2 * (mx2 && my2 ? vmax(tx, ty) : mx2 ? tx : ty);
+            }
+            if (axis_y) ay = axes_on * vclamp01(vset(1.75f) - vabs(px) * ipx);
+            if (axis_x) ax = axes_on * vclamp01(vset(1.75f) - vabs(py) * ipy);
+          }
+          // Shadow: bilinear lookup in the blurred map, only where the hit is on it.
+          v4f dk = one;
+          if (shaded) {
+            const v4f u = (px - vsh_x0) * vsh_inv - vset(0.5f), v = (py - vsh_y0) * vsh_inv - vset(0.5f);
+            if (vany((u > zero) & (v > zero) & (u < vN1) & (v < vN1))) {
+              for (int i = 0; i < 4; ++i) {
+                const float ui = u[i], vi = v[i];
+                if (!(ui > 0.0f && vi > 0.0f && ui < float(N - 1) && vi < float(N - 1))) continue;
+                const int iu = static_cast<int>(ui), iv = static_cast<int>(vi);
+                const float fu = ui - float(iu), fv = vi - float(iv);
+                const float* t0 = shadow_.data() + std::size_t(iv) * N + iu;
+                const float* t1 = t0 + N;
+                const float sv = (t0[0] * (1 - fu) + t0[1] * fu) * (1 - fv) + (t1[0] * (1 - fu) + t1[1] * fu) * fv;
+                dk[i] = 1.0f - shadow_k * sv;
+              }
+            }
+          }
+          // Colour: ground, shadow, minor, major lines, axes, fade.
+          v4f cr = vset(ground_c.r) * dk, cg = vset(ground_c.g) * dk, cb = vset(ground_c.b) * dk;
+          if (minor) cr = blend(cr, minor_c.r, m1), cg = blend(cg, minor_c.g, m1), cb = blend(cb, minor_c.b, m1);
+          if (major) cr = blend(cr, major_c.r, m2), cg = blend(cg, major_c.g, m2), cb = blend(cb, major_c.b, m2);
+          if (axis_y) cr = blend(cr, ax_y.r, ay), cg = blend(cg, ax_y.g, ay), cb = blend(cb, ax_y.b, ay);
+          if (axis_x) cr = blend(cr, ax_x.r, ax), cg = blend(cg, ax_x.g, ax), cb = blend(cb, ax_x.b, ax);
+          if (fade) {
+            const v4f t = vclamp01((s - vfade0) * vinv_fade);
+            const v4f fd = t * t * (vset(3.0f) - vset(2.0f) * t);
+            cr = blend(cr, horizon.r, fd), cg = blend(cg, horizon.g, fd), cb = blend(cb, horizon.b, fd);
+          }
+          bgr = pack_bgr(cr, cg, cb);
+        }
+        // Bytes: 4 at a time (each store's fourth byte is the next column's first,
+        // written after it); the run's last column 3 bytes, and the segment's last when
+        // the next segment may be left as it is.
+        const int last = mode == kAll ? g1c : b;
+        unsigned char* p = out + 3 * c;
+        if (c + 4 <= last) {
+          for (int i = 0; i < 4; ++i) {
+            const std::uint32_t w = static_cast<std::uint32_t>(bgr[i]);
+            std::memcpy(p + 3 * i, &w, 4);
+          }
+        } else {
+          for (int i = 0; i < n; ++i, p += 3) {
+            const std::uint32_t w = static_cast<std::uint32_t>(bgr[i]);
+            if (c + i < last) {
+              std::memcpy(p, &w, 4);
+            } else {
+              p[0] = static_cast<unsigned char>(w);
+              p[1] = static_cast<unsigned char>(w >> 8);
+              p[2] = static_cast<unsigned char>(w >> 16);
+            }
+          }
+        }
       }
     }
-    // Ground pass 2: colour (ground, shadow, minor, major lines, axes, fade), then bytes.
-    const auto blend = [](v4f a, float b, v4f t) { return a + (vset(b) - a) * t; };
-    for (int c = g0; c <= g1c; c += 4) {
-      const v4f dk = vload(DK + c), m1 = vload(M1 + c), m2 = vload(M2 + c), ay = vload(AY + c), ax = vload(AX + c),
-                fd = vload(FD + c);
-      v4f cr = vset(ground_c.r) * dk, cg = vset(ground_c.g) * dk, cb = vset(ground_c.b) * dk;
-      cr = blend(cr, minor_c.r, m1), cg = blend(cg, minor_c.g, m1), cb = blend(cb, minor_c.b, m1);
-      cr = blend(cr, major_c.r, m2), cg = blend(cg, major_c.g, m2), cb = blend(cb, major_c.b, m2);
-      cr = blend(cr, ax_y.r, ay), cg = blend(cg, ax_y.g, ay), cb = blend(cb, ax_y.b, ay);
-      cr = blend(cr, ax_x.r, ax), cg = blend(cg, ax_x.g, ax), cb = blend(cb, ax_x.b, ax);
-      cr = blend(cr, horizon.r, fd), cg = blend(cg, horizon.g, fd), cb = blend(cb, horizon.b, fd);
-      vstore_int(RI + c, cr + vset(0.5f));
-      vstore_int(GI + c, cg + vset(0.5f));
-      vstore_int(BI + c, cb + vset(0.5f));
+  };
+
+  const std::integral_constant<int, kAll> kAllRow;
+  const std::integral_constant<int, kShadedOnly> kShadedOnlyRow;
+
+  // The background of a camera seen twice in a row (the frames of a run) is kept: the
+  // second frame draws it without the shadow into the cache, and every frame from then
+  // on copies it and draws again only the ground that may be on the shadow map: the
+  // segments whose hit points may be on it, in the rows and columns of the map's
+  // projection (its corners on the ground projected; all of them when one is behind
+  // the camera). A segment off the map is the same with or without the shadow, so the
+  // image is the same as drawing every pixel.
+  std::array<double, kBackgroundKeyN> key{};
+  {
+    std::size_t i = 0;
+    const auto put = [&](double v) {
+      if (i < key.size()) key[i++] = v;
+    };
+    const auto put3 = [&](const Eigen::Vector3d& v) { put(v.x()), put(v.y()), put(v.z()); };
+    const auto put_color = [&](const Color& c) { put(c.r), put(c.g), put(c.b); };
+    put3(camera.position), put3(camera.look_at), put3(camera.up), put(camera.fov_y_deg);
+    put(camera.width_px), put(camera.height_px);
+    put(style_.ground), put(style_.grid), put(style_.axes), put(style_.grid_minor_m), put(style_.grid_major_m);
+    put(style_.ground_fade_start_m), put(style_.ground_fade_end_m);
+    put_color(style_.ground_color), put_color(style_.grid_minor_color), put_color(style_.grid_major_color);
+    put_color(style_.axis_x_color), put_color(style_.axis_y_color);
+    put_color(style_.sky_zenith), put_color(style_.sky_horizon), put_color(style_.floor_color);
+  }
+  const bool same = background_seen_ && key == background_key_;
+  background_key_ = key;
+  background_seen_ = true;
+  if (!same) background_cached_ = false;
+  if (!same) {  // a new camera: draw every pixel
+    for (int r = 0; r < height_; ++r) {
+      if (shadow)
+        draw_row(r, kAllRow, std::true_type{}, 0, W - 1);
+      else
+        draw_row(r, kAllRow, std::false_type{}, 0, W - 1);
     }
-    for (int c = g0; c <= g1c; ++c) {
-      unsigned char* p = out + 3 * c;
-      p[0] = static_cast<unsigned char>(BI[c]);
-      p[1] = static_cast<unsigned char>(GI[c]);
-      p[2] = static_cast<unsigned char>(RI[c]);
+    return;
+  }
+  // The buffers are made by the first render() (no allocation later), continuous.
+  const std::size_t image_bytes = std::size_t(height_) * W * 3, depth_bytes = std::size_t(height_) * W * sizeof(float);
+  if (!background_cached_) {
+    for (int r = 0; r < height_; ++r) draw_row(r, kAllRow, std::false_type{}, 0, W - 1);
+    std::memcpy(cached_image_.data, image_.data, image_bytes);
+    std::memcpy(cached_inv_depth_.data, inv_depth_.data, depth_bytes);
+    background_cached_ = true;
+  } else {
+    std::memcpy(image_.data, cached_image_.data, image_bytes);
+    std::memcpy(inv_depth_.data, cached_inv_depth_.data, depth_bytes);
+    for (int r = 0; r < height_; ++r) {
+      std::int16_t* idrow = ids_.ptr<std::int16_t>(r);
+      std::fill(idrow, idrow + W, std::int16_t{-1});
     }
   }
+  if (!shadow) return;
+  // The map's projection: its corners on the ground in the camera frame.
+  int r_lo = 0, r_hi = height_ - 1, c_lo = 0, c_hi = W - 1;
+  {
+    const Eigen::Isometry3d X_CW = X_WC.inverse();
+    const double ext = shadow_texel_m_ * N;
+    double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
+    bool all_in_front = true;
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector3d p_C = X_CW * Eigen::Vector3d(shadow_x0_ + (k & 1) * ext, shadow_y0_ + (k >> 1) * ext, 0.0);
+      if (!(p_C.z() > 1e-3)) {
+        all_in_front = false;
+        break;
+      }
+      const double u = cx + f * p_C.x() / p_C.z(), v = cy + f * p_C.y() / p_C.z();
+      u_min = std::min(u_min, u), u_max = std::max(u_max, u), v_min = std::min(v_min, v), v_max = std::max(v_max, v);
+    }
+    if (all_in_front) {  // two pixels' margin
+      c_lo = static_cast<int>(std::clamp(std::floor(u_min) - 2, 0.0, double(W - 1)));
+      c_hi = static_cast<int>(std::clamp(std::ceil(u_max) + 2, 0.0, double(W - 1)));
+      r_lo = static_cast<int>(std::clamp(std::floor(v_min) - 2, 0.0, double(height_ - 1)));
+      r_hi = static_cast<int>(std::clamp(std::ceil(v_max) + 2, 0.0, double(height_ - 1)));
+      if (u_max < -2 || u_min > W + 2 || v_max < -2 || v_min > height_ + 2) return;
+    }
+  }
+  for (int r = r_lo; r <= r_hi; ++r) draw_row(r, kShadedOnlyRow, std::true_type{}, c_lo, c_hi);
 }
 
 void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eigen::Isometry3d& X_CW, double f_px,

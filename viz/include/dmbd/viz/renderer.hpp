@@ -252,8 +252,13 @@ class Renderer {
   bool shadow_valid_ = false;
   std::vector<unsigned char> linear_to_srgb_;  // 4096 entries over [0, 1]
   std::vector<unsigned char> sky_lut_;         // BGR by elevation
-  std::vector<float> row_;                     // row buffers of the ground pass
-  std::vector<std::int32_t> row_int_;
+  std::vector<float> row_;                     // row buffer of the sky
+  // The background (sky, ground, grid) without the shadow, kept for a camera seen twice
+  // in a row: what decides it (the camera and the looks), and its image and 1/z.
+  static constexpr std::size_t kBackgroundKeyN = 43;
+  std::array<double, kBackgroundKeyN> background_key_{};
+  bool background_seen_ = false, background_cached_ = false;
+  cv::Mat cached_image_, cached_inv_depth_;
   std::array<Glyph, 95> glyphs_;  // ' ' .. '~'
   int text_line_px_ = 0, text_ascent_px_ = 0;
   Stats stats_;
