@@ -47,6 +47,7 @@ BENCHMARK_CAPTURE(scenario_rtf, force_dob, std::string("force_dob"))->Unit(bench
 BENCHMARK_CAPTURE(scenario_rtf, position_controllers, std::string("position_controllers"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(scenario_rtf, thermal, std::string("thermal"))->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(scenario_rtf, standing, std::string("standing"))->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_CAPTURE(scenario_rtf, balance, std::string("balance"))->Unit(benchmark::kMillisecond)->Iterations(1);
 
 namespace {
 
