@@ -25,6 +25,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include <ostream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -46,6 +48,9 @@ struct Case {
   Eigen::Vector3d position, look_at;
   double near_m;
 };
+// The test's name in ctest's listing (GoogleTest prints a struct as its raw bytes).
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
 
 // A walking pose (left leg forward, right knee bent), placed on the ground, and the
 // overlays a balancing run draws: text, CoM, two contact forces, a path and a marker.
