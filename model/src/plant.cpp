@@ -236,13 +236,19 @@ double Plant::time() const { return impl_->t; }
 
 Eigen::VectorXd Plant::joint_positions() const {
   Eigen::VectorXd q(num_joints());
-  for (int c = 0; c < num_joints(); ++c) q[c] = impl_->Q[impl_->dyn.joint_q(c)];
+  joint_positions(q);
   return q;
+}
+void Plant::joint_positions(Eigen::Ref<Eigen::VectorXd> q) const {
+  for (int c = 0; c < num_joints(); ++c) q[c] = impl_->Q[impl_->dyn.joint_q(c)];
 }
 Eigen::VectorXd Plant::joint_velocities() const {
   Eigen::VectorXd v(num_joints());
-  for (int c = 0; c < num_joints(); ++c) v[c] = impl_->V[impl_->dyn.joint_v(c)];
+  joint_velocities(v);
   return v;
+}
+void Plant::joint_velocities(Eigen::Ref<Eigen::VectorXd> v) const {
+  for (int c = 0; c < num_joints(); ++c) v[c] = impl_->V[impl_->dyn.joint_v(c)];
 }
 Eigen::Isometry3d Plant::base_pose() const { return impl_->dyn.kernel().pose(impl_->root_body()); }
 Eigen::Matrix<double, 6, 1> Plant::base_velocity() const {
@@ -253,31 +259,41 @@ Eigen::Matrix<double, 6, 1> Plant::base_velocity() const {
   return out;
 }
 Eigen::VectorXd Plant::spring_deflections() const {
-  const Impl& m = *impl_;
-  Eigen::VectorXd s = Eigen::VectorXd::Zero(num_actuators());
-  for (int k = 0; k < num_actuators(); ++k)
-    if (m.dyn.spring_q(k) >= 0) s[k] = m.Q[m.dyn.spring_q(k)];
+  Eigen::VectorXd s(num_actuators());
+  spring_deflections(s);
   return s;
+}
+void Plant::spring_deflections(Eigen::Ref<Eigen::VectorXd> s) const {
+  const Impl& m = *impl_;
+  for (int k = 0; k < num_actuators(); ++k) s[k] = m.dyn.spring_q(k) >= 0 ? m.Q[m.dyn.spring_q(k)] : 0.0;
 }
 // Spring kinds: the sensed spring force K_s s. ROTARY: the drive's estimate from the
 // applied current, efficiency k_tau N i (N m): what its current loop reports.
 Eigen::VectorXd Plant::actuator_forces() const {
+  Eigen::VectorXd f(num_actuators());
+  actuator_forces(f);
+  return f;
+}
+void Plant::actuator_forces(Eigen::Ref<Eigen::VectorXd> f) const {
   const Impl& m = *impl_;
-  Eigen::VectorXd f = spring_deflections();
+  spring_deflections(f);
   for (int k = 0; k < num_actuators(); ++k) {
     const ActuatorParams& p = m.dyn.actuator(k);
     if (p.has_spring()) f[k] *= p.K_s_N_per_m;
     else f[k] = p.efficiency * p.force_per_amp_N_per_A() * m.dyn.currents[k];
   }
-  return f;
 }
 Eigen::VectorXd Plant::motor_angles() const {
-  const Impl& m = *impl_;
-  const Eigen::VectorXd s = spring_deflections();
   Eigen::VectorXd a(num_actuators());
-  for (int k = 0; k < num_actuators(); ++k)
-    a[k] = detail::motor_angle(m.dyn.actuator(k), m.Q[m.dyn.joint_q(m.dyn.actuator_joint(k))], s[k]);
+  motor_angles(a);
   return a;
+}
+// Each actuator's angle from its own deflection (a[k] is read before it is written).
+void Plant::motor_angles(Eigen::Ref<Eigen::VectorXd> a) const {
+  const Impl& m = *impl_;
+  spring_deflections(a);
+  for (int k = 0; k < num_actuators(); ++k)
+    a[k] = detail::motor_angle(m.dyn.actuator(k), m.Q[m.dyn.joint_q(m.dyn.actuator_joint(k))], a[k]);
 }
 Eigen::VectorXd Plant::motor_velocities() const {
   const Impl& m = *impl_;
@@ -289,6 +305,7 @@ Eigen::VectorXd Plant::motor_velocities() const {
   return a;
 }
 Eigen::VectorXd Plant::applied_currents() const { return impl_->dyn.currents; }
+void Plant::applied_currents(Eigen::Ref<Eigen::VectorXd> i) const { i = impl_->dyn.currents; }
 Eigen::VectorXd Plant::joint_torque_estimates() const {
   const Impl& m = *impl_;
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(num_joints());
@@ -306,11 +323,15 @@ std::vector<Eigen::Isometry3d> Plant::link_poses() const {
   return out;
 }
 std::vector<ContactReading> Plant::contacts() const {
-  const Impl& m = *impl_;
   std::vector<ContactReading> out;
-  const int n = static_cast<int>(m.dyn.contact_elements().shapes.size());
-  for (int i = 0; i < n; ++i) out.push_back(m.dyn.contact_reading(i));
+  contacts(out);
   return out;
+}
+void Plant::contacts(std::vector<ContactReading>& out) const {
+  const Impl& m = *impl_;
+  const auto n = m.dyn.contact_elements().shapes.size();
+  out.resize(n);  // allocates on the first call only
+  for (std::size_t i = 0; i < n; ++i) out[i] = m.dyn.contact_reading(static_cast<int>(i));
 }
 Eigen::Vector3d Plant::com_position() const {
   const Impl& m = *impl_;

@@ -90,6 +90,9 @@ struct Simulation::Impl {
   int base_link = 0;
 
   Eigen::VectorXd currents, torques, q, qd;
+  // Readings taken every tick into storage made once (no allocation in the loop).
+  Eigen::VectorXd theta_read, spring_read, force_read, current_read;
+  std::vector<model::ContactReading> contact_read;
   std::vector<double> velocity_limit;           // per joint: the URDF's (0: none)
   std::vector<VelocityExcess> velocity_excess;  // per joint
   Ns last_sensor_ns = -1;
@@ -182,6 +185,9 @@ struct Simulation::Impl {
     bind_triggers();
     currents = Eigen::VectorXd::Zero(na);
     torques = Eigen::VectorXd::Zero(nj);
+    q = qd = Eigen::VectorXd::Zero(nj);
+    theta_read = spring_read = force_read = current_read = Eigen::VectorXd::Zero(na);
+    plant.contacts(contact_read);
     for (const auto& J : plant.joint_names()) {
       const int d = plant.description().joint_index(J);
       velocity_limit.push_back(d < 0 ? 0.0 : plant.description().joints[static_cast<std::size_t>(d)].velocity);
@@ -239,8 +245,8 @@ struct Simulation::Impl {
   }
 
   void refresh_true() {
-    q = plant.joint_positions();
-    qd = plant.joint_velocities();
+    plant.joint_positions(q);
+    plant.joint_velocities(qd);
     for (int j = 0; j < nj; ++j) {
       bus[static_cast<std::size_t>(sig_q[static_cast<std::size_t>(j)])] = q[j];
       bus[static_cast<std::size_t>(sig_qd[static_cast<std::size_t>(j)])] = qd[j];
@@ -274,7 +280,10 @@ struct Simulation::Impl {
     const double dt = first ? 0.0 : t_of(t - last_sensor_ns);
     last_sensor_ns = t;
     if (na == 0) return;
-    const Eigen::VectorXd theta = plant.motor_angles(), xs = plant.spring_deflections(), f = plant.actuator_forces();
+    plant.motor_angles(theta_read);
+    plant.spring_deflections(spring_read);
+    plant.actuator_forces(force_read);
+    const Eigen::VectorXd &theta = theta_read, &xs = spring_read, &f = force_read;
     for (int k = 0; k < na; ++k) {
       ActuatorIo& io = acts[static_cast<std::size_t>(k)];
       const model::ActuatorParams& a = plant.actuator(k);
@@ -444,7 +453,8 @@ struct Simulation::Impl {
   }
   void advance_thermal(double dt) {
     if (dt <= 0 || na == 0) return;
-    const Eigen::VectorXd i = plant.applied_currents();
+    plant.applied_currents(current_read);
+    const Eigen::VectorXd& i = current_read;
     for (int k = 0; k < na; ++k) {
       ActuatorIo& io = acts[static_cast<std::size_t>(k)];
       io.thermal_on.step(i[k], dt, true);
@@ -454,12 +464,15 @@ struct Simulation::Impl {
   }
   void fill_logged() {
     if (sig_contact >= 0) {
-      const std::vector<model::ContactReading> c = plant.contacts();
+      plant.contacts(contact_read);
+      const std::vector<model::ContactReading>& c = contact_read;
       for (std::size_t k = 0; k < c.size(); ++k)
         for (int i = 0; i < 3; ++i) bus[static_cast<std::size_t>(sig_contact) + 3 * k + static_cast<std::size_t>(i)] = c[k].force_W[i];
     }
     if (na == 0) return;
-    const Eigen::VectorXd i = plant.applied_currents(), f = plant.actuator_forces();
+    plant.applied_currents(current_read);
+    plant.actuator_forces(force_read);
+    const Eigen::VectorXd &i = current_read, &f = force_read;
     for (int k = 0; k < na; ++k) {
       ActuatorIo& io = acts[static_cast<std::size_t>(k)];
       bus[static_cast<std::size_t>(io.current_applied)] = i[k];

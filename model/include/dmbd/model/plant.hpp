@@ -164,6 +164,15 @@ class Plant {
   Eigen::VectorXd joint_torque_estimates() const;          // N m, per joint (0 where no actuator)
   std::vector<Eigen::Isometry3d> link_poses() const;       // X_WL per description link
   std::vector<ContactReading> contacts() const;
+  // The same readings into storage the caller keeps (sized num_joints(), num_actuators(),
+  // or resized once for contacts): nothing allocated, for loops that read them every tick.
+  void joint_positions(Eigen::Ref<Eigen::VectorXd> q) const;
+  void joint_velocities(Eigen::Ref<Eigen::VectorXd> v) const;
+  void actuator_forces(Eigen::Ref<Eigen::VectorXd> f) const;
+  void spring_deflections(Eigen::Ref<Eigen::VectorXd> s) const;
+  void motor_angles(Eigen::Ref<Eigen::VectorXd> a) const;
+  void applied_currents(Eigen::Ref<Eigen::VectorXd> i) const;
+  void contacts(std::vector<ContactReading>& out) const;
   Eigen::Vector3d com_position() const;
   double total_mass_kg() const;                            // robot incl. actuator masses
   double kinetic_energy() const;
