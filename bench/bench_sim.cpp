@@ -10,7 +10,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -52,26 +51,39 @@ BENCHMARK_CAPTURE(scenario_rtf, balance, std::string("balance"))->Unit(benchmark
 namespace {
 
 // Decompresses Simbody's Atlas into dir and writes its standing scenario there; returns
-// the scenario's path, or "" when the URDF is absent.
-std::string write_atlas(const std::string& dir, double duration_s) {
+// the scenario's path, or "" with `why` set (the URDF absent, the folder not writable).
+std::string write_atlas(const std::string& dir, double duration_s, std::string& why) {
   namespace fs = std::filesystem;
-  if (!fs::exists(dmbd::test::atlas::kAtlasGz)) return "";
-  fs::create_directories(dir);
+  if (!fs::exists(dmbd::test::atlas::kAtlasGz)) {
+    why = std::string(dmbd::test::atlas::kAtlasGz) + " is absent (Debian's simbody docs)";
+    return "";
+  }
+  std::error_code ec;
+  fs::create_directories(dir.empty() ? "." : dir, ec);
   const std::string urdf = dir + "/atlas_v4_free_pelvis.urdf";
-  if (std::system(("gzip -dc '" + std::string(dmbd::test::atlas::kAtlasGz) + "' > '" + urdf + "'").c_str()) != 0) return "";
+  if (ec || !dmbd::test::atlas::decompress_atlas(urdf)) {
+    why = "cannot write '" + urdf + "'";
+    return "";
+  }
   dmbd::model::UrdfOptions o;
   o.load_meshes = false;
   const auto robot = dmbd::model::load_urdf(urdf, o);
   const std::string path = dir + "/atlas.yaml";
-  std::ofstream(path) << dmbd::test::atlas::scenario_text(robot, urdf, duration_s, "");
+  std::ofstream out(path);
+  out << dmbd::test::atlas::scenario_text(robot, urdf, duration_s, "");
+  if (!out.flush()) {
+    why = "cannot write '" + path + "'";
+    return "";
+  }
   return path;
 }
 
 void atlas_rtf(benchmark::State& st) {
   const std::string dir = (std::filesystem::temp_directory_path() / "dmbd_bench_atlas").string();
-  const std::string path = write_atlas(dir, 1.0);
+  std::string why;
+  const std::string path = write_atlas(dir, 1.0, why);
   if (path.empty()) {
-    st.SkipWithError("Simbody's Atlas URDF is absent");
+    st.SkipWithError(why.c_str());
     return;
   }
   const auto s = dmbd::scenario::load_scenario(path);
@@ -92,8 +104,10 @@ int main(int argc, char** argv) {
   const char* flag = "--write_atlas=";
   for (int i = 1; i < argc; ++i)
     if (std::strncmp(argv[i], flag, std::strlen(flag)) == 0) {
-      const std::string path = write_atlas(argv[i] + std::strlen(flag), 10.0);
-      std::printf("%s\n", path.empty() ? "Simbody's Atlas URDF is absent" : ("wrote " + path).c_str());
+      std::string why;
+      const std::string path = write_atlas(argv[i] + std::strlen(flag), 10.0, why);
+      if (path.empty()) std::fprintf(stderr, "bench_sim: --write_atlas: %s\n", why.c_str());
+      else std::printf("wrote %s\n", path.c_str());
       return path.empty() ? 1 : 0;
     }
   benchmark::Initialize(&argc, argv);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "angle_wrap.hpp"
 #include "dmbd/blocks/error.hpp"
 #include "phase_model.hpp"
 #include "scaled_response.hpp"
@@ -14,11 +15,6 @@ namespace dmbd::blocks {
 namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
-
-double wrap_pi(double a) {  // into (-pi, pi]
-  a = std::remainder(a, 2.0 * M_PI);
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
-}
 
 Complex point(const TransferFunction& g, double w) {
   return g.is_discrete() ? std::polar(1.0, w * g.ts()) : Complex(0.0, w);
@@ -141,8 +137,10 @@ std::vector<double> default_frequency_grid(const TransferFunction& g, int n) {
 }
 
 std::vector<Complex> frequency_response(const TransferFunction& g, const std::vector<double>& w) {
+  std::vector<ScaledResponse> r;
+  scaled_responses(g, w, r);
   std::vector<Complex> h(w.size());
-  for (size_t k = 0; k < w.size(); ++k) h[k] = scaled_response(g, w[k]).value(w[k]);
+  for (size_t k = 0; k < w.size(); ++k) h[k] = r[k].value(w[k]);
   return h;
 }
 

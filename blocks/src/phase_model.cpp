@@ -1,5 +1,6 @@
 #include "phase_model.hpp"
 
+#include "angle_wrap.hpp"
 #include "dmbd/base/vector_clones.hpp"
 
 #include <algorithm>
@@ -8,16 +9,6 @@
 namespace dmbd::blocks {
 
 namespace {
-
-double wrap_pi(double a) {  // into (-pi, pi]
-  a = std::remainder(a, 2.0 * M_PI);
-  return a <= -M_PI ? a + 2.0 * M_PI : a;
-}
-
-double wrap_2pi(double a) {  // into [0, 2 pi)
-  a = std::fmod(a, 2.0 * M_PI);
-  return a < 0.0 ? a + 2.0 * M_PI : a;
-}
 
 // atan2(y, x) within 1e-5 rad (NaN at 0/0): Hastings' degree-11 odd minimax polynomial
 // for atan on [0, 1], branch-free so that the loops below vectorise. Written by hand

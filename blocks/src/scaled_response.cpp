@@ -10,29 +10,6 @@ namespace dmbd::blocks {
 
 namespace {
 
-// p(jw) by Horner's rule in real arithmetic: (vr + j vi) jw = -vi w + j vr w.
-Complex horner_jw(const std::vector<double>& c, double w) {
-  double vr = 0.0, vi = 0.0;
-  for (auto it = c.rbegin(); it != c.rend(); ++it) {
-    const double r = *it - vi * w;
-    vi = vr * w;
-    vr = r;
-  }
-  return {vr, vi};
-}
-
-// (jw)^-n p(jw) = sum c[n-i] (1/(jw))^i, by Horner's rule in u = 1/w:
-// (vr + j vi) (-j u) = vi u - j vr u.
-Complex horner_reversed_jw(const std::vector<double>& c, double u) {
-  double vr = 0.0, vi = 0.0;
-  for (const double ck : c) {
-    const double r = ck + vi * u;
-    vi = -vr * u;
-    vr = r;
-  }
-  return {vr, vi};
-}
-
 Complex horner_z(const std::vector<double>& c, Complex z) {
   Complex v(0.0);
   for (auto it = c.rbegin(); it != c.rend(); ++it) v = v * z + *it;
@@ -51,28 +28,15 @@ Complex j_power(int k) {
 
 }  // namespace
 
-ScaledResponse scaled_response(const TransferFunction& g, double w) {
-  const std::vector<double>& n = g.num().coeffs();
-  const std::vector<double>& d = g.den().coeffs();
-  if (g.is_discrete()) {
-    const double th = w * g.ts();
-    const Complex z(std::cos(th), std::sin(th));
-    return {horner_z(n, z) / horner_z(d, z), 0};
-  }
-  if (std::abs(w) <= 1.0) return {horner_jw(n, w) / horner_jw(d, w), 0};
-  const double u = 1.0 / w;
-  return {horner_reversed_jw(n, u) / horner_reversed_jw(d, u), g.num().degree() - g.den().degree()};
-}
+namespace {
 
 // w^k by repeated products for the usual small |k| (each within an ulp; pow costs more).
-static double int_power(double w, int k) {
+double int_power(double w, int k) {
   if (k < -8 || k > 8) return std::pow(w, k);
   double p = 1.0;
   for (int i = 0; i < std::abs(k); ++i) p *= w;
   return k < 0 ? 1.0 / p : p;
 }
-
-namespace {
 
 // p(j sigma_k) for every k at once, coefficient c[i] or c[deg - i] per frequency:
 // Horner's step (vr + j vi) j sigma + c = (c - vi sigma) + j vr sigma. With
@@ -99,8 +63,11 @@ DMBD_VECTOR_CLONES void horner_axis(const std::vector<double>& c, const double* 
 void scaled_responses(const TransferFunction& g, const std::vector<double>& w, std::vector<ScaledResponse>& out) {
   const std::size_t n = w.size();
   out.resize(n);
-  if (g.is_discrete()) {
-    for (std::size_t k = 0; k < n; ++k) out[k] = scaled_response(g, w[k]);
+  if (g.is_discrete()) {  // |z| = 1: no scaling
+    for (std::size_t k = 0; k < n; ++k) {
+      const Complex z = std::polar(1.0, w[k] * g.ts());
+      out[k] = {horner_z(g.num().coeffs(), z) / horner_z(g.den().coeffs(), z), 0};
+    }
     return;
   }
   // Scratch left uninitialised (each entry is written before it is read): value

@@ -22,9 +22,8 @@ struct ScaledResponse {
   double arg_rad(double w) const;
 };
 
-ScaledResponse scaled_response(const TransferFunction& g, double w);
-// The same at every w[k] into out[k] (resized): one Horner pass per coefficient over
-// all the frequencies, which the compiler vectorises (bode's inner loop).
+// G at every w[k] into out[k] (resized): one Horner pass per coefficient over all the
+// frequencies, which the compiler vectorises.
 void scaled_responses(const TransferFunction& g, const std::vector<double>& w, std::vector<ScaledResponse>& out);
 
 }  // namespace dmbd::blocks

@@ -8,6 +8,7 @@
 
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/state_space.hpp"
+#include "angle_wrap.hpp"
 
 namespace dmbd::blocks {
 
@@ -15,11 +16,6 @@ namespace {
 
 constexpr double kDeg = 180.0 / M_PI;
 constexpr double kDbPerNeper = 20.0 / M_LN10;
-
-double wrap_2pi(double a) {  // into [0, 2 pi)
-  a = std::fmod(a, 2.0 * M_PI);
-  return a < 0.0 ? a + 2.0 * M_PI : a;
-}
 
 // Phase change of the factor (z - r)/(1 - r) from z = 1 to e^{j th}: it winds once
 // around a root inside the circle (monotone, in [0, 2 pi)) and not around one outside.

@@ -59,18 +59,22 @@ void PlantDynamics::add_contacts(double h) {
   add_rim_contacts(h);
 }
 
-// The spheres of one body (a foot's four) gathered at its origin and projected through its
-// frame Jacobian once (add_body_terms) instead of one 3 x m point Jacobian each.
+// Consecutive elements of one body (a foot's four spheres, a box's corners) are gathered
+// at its origin and projected through its frame Jacobian once (add_body_terms) instead
+// of one 3 x m point Jacobian each. Starts t on `body`, projecting what t held before.
+void PlantDynamics::gather_on(BodyTerms& t, int body) {
+  if (body == t.body) return;
+  add_body_terms(t);
+  t = BodyTerms();
+  t.body = body;
+  t.o = kernel_.origin(body);
+}
+
 void PlantDynamics::add_sphere_contacts(double h) {
   BodyTerms t;
   for (std::size_t i = 0; i < contact_.spheres.size(); ++i) {
     const ContactSphere& sp = contact_.spheres[i];
-    if (sp.body != t.body) {
-      add_body_terms(t);
-      t = BodyTerms();
-      t.body = sp.body;
-      t.o = kernel_.origin(sp.body);
-    }
+    gather_on(t, sp.body);
     const Eigen::Vector3d center = world_point(sp.body, sp.center_B);
     const double pen = sp.radius_m - ground_.height(center);
     if (!(pen > 0)) continue;
@@ -86,19 +90,21 @@ void PlantDynamics::add_sphere_contacts(double h) {
 }
 
 void PlantDynamics::add_point_contacts(double h) {
+  BodyTerms t;
   for (std::size_t i = 0; i < contact_.points.size(); ++i) {
     const ContactPoint& pt = contact_.points[i];
+    gather_on(t, pt.body);
     const Eigen::Vector3d p = world_point(pt.body, pt.p_B);
     const double pen = -ground_.height(p);
     if (!(pen > 0)) continue;
-    const Eigen::Vector3d v = point_columns(pt.body, p);
+    const Eigen::Vector3d v = kernel_.point_velocity(pt.body, p);
     const SphereAnchor& an = point_anchors[i];
     const Eigen::Vector2d offset = an.active ? Eigen::Vector2d(ground_.tangent(p) - an.anchor) : Eigen::Vector2d::Zero();
     ContactForce c = point_contact(opt_.contact_params, pen, ground_.to_ground(v), offset);
     ground_.to_world(c);
-    const std::vector<int>& mob = kernel_.body_mobilities(pt.body);
-    add_point_term(mob, static_cast<int>(mob.size()), c.force_W, h * c.D + h * h * c.K, &c.K, &v);
+    t.add(p, c.force_W, h * c.D + h * h * c.K, c.K * v);
   }
+  add_body_terms(t);
 }
 
 // Each penetrated sub-arc: its share of the ring's force along n at its own centre of

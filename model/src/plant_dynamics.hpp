@@ -183,6 +183,8 @@ class PlantDynamics {
   // A(idx, idx) += J^T W6 J, r(idx) += J^T f6, kv(idx) += J^T k6 with J the body's frame
   // Jacobian at o (6 x its mobilities): the body's point terms projected at once.
   void add_body_terms(const BodyTerms& t);
+  // Starts gathering t on `body` (add_body_terms of what t held), unless t is on it.
+  void gather_on(BodyTerms& t, int body);
 
   TreeKernel kernel_;
   PlantOptions opt_;

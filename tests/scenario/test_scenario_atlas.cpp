@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -40,7 +39,7 @@ class Atlas : public ::testing::Test {
   void SetUp() override {
     if (!fs::exists(kAtlasGz)) GTEST_SKIP() << kAtlasGz << " is absent (Debian package simbody-doc / libsimbody-dev docs)";
     urdf_ = dir_.file("atlas_v4_free_pelvis.urdf");
-    ASSERT_EQ(std::system(("gzip -dc '" + std::string(kAtlasGz) + "' > '" + urdf_ + "'").c_str()), 0);
+    ASSERT_TRUE(test::atlas::decompress_atlas(urdf_)) << urdf_;
     model::UrdfOptions o;
     o.load_meshes = false;
     robot_ = model::load_urdf(urdf_, o);

@@ -15,12 +15,18 @@
 
 #include <fmt/format.h>
 
+#include "dmbd/base/process.hpp"
 #include "dmbd/model/robot_description.hpp"
 
 namespace dmbd::test::atlas {
 
 inline const char* const kAtlasGz =
     "/usr/share/doc/simbody/examples/src/TaskSpaceControl-Atlas/models/atlas_v4_free_pelvis.urdf.gz";
+
+// Decompresses kAtlasGz into urdf_path (gzip, started without a shell); false if that fails.
+inline bool decompress_atlas(const std::string& urdf_path) {
+  return run_program({"gzip", "-dc", kAtlasGz}, urdf_path, "").ok();
+}
 
 constexpr double kBend = 0.3;  // knee bend, rad
 
