@@ -332,45 +332,47 @@ Step row_step(const sim::Log& log, const scenario::FrameSetup& f) {
   return st;
 }
 
-// The frames' files and the video written on two threads while the next frames are
+// The frames' files and the video written on three threads while the next frames are
 // rendered: a frame is copied into one of a few buffers made once (the renderer's
-// image is overwritten by the next render), the PNG writer encodes and writes it, the
-// video writer feeds it to the encoder, each in the frames' order, and the buffer is
-// used again when both are done with it. A frame waits for a free buffer, so at most
-// kBuffers frames are in flight. An error on either thread (a full disk, a folder that
-// cannot be written) stops both, and push() or finish() rethrows it as it was thrown
+// image is overwritten by the next render), one of two PNG writers (even and odd
+// frames: compressing a 1920 x 1080 frame takes longer than rendering it) encodes and
+// writes it, the video writer feeds it to the encoder in the frames' order, and the
+// buffer is used again when both are done with it. A frame waits for its buffer to be
+// free, so at most kBuffers frames are in flight. An error on any thread (a full disk, a folder that
+// cannot be written) stops them all, and push() or finish() rethrows it as it was thrown
 // (the same type and message the command line turns into its one line and exit code);
 // the video's temporary file is removed by its writer, and a PNG is written whole
 // (write_file_atomic) or not at all. Destroyed without finish() (an error on the
-// rendering side), it stops both threads without writing the frames still queued.
+// rendering side), it stops the threads without writing the frames still queued.
 class FrameWriter {
  public:
-  static constexpr int kBuffers = 4;
+  static constexpr int kBuffers = 6;
+  static constexpr std::size_t kPngThreads = 2;
 
   FrameWriter(const std::string& dir, double video_fps, int w, int h)
       : dir_(dir), video_((fs::path(dir) / "video.mp4").string(), video_fps) {
     for (auto& b : buffers_) b.image.create(h, w, CV_8UC3);
-    png_thread_ = std::thread([this] { run(kPng); });
-    video_thread_ = std::thread([this] { run(kVideo); });
+    for (std::size_t i = 0; i < kPngThreads; ++i) png_threads_[i] = std::thread([this, i] { run(kPng, i, kPngThreads); });
+    video_thread_ = std::thread([this] { run(kVideo, 0, 1); });
   }
   ~FrameWriter() { stop(); }
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
 
   // Queues a copy of `image` to be written as `name` (relative to the folder) and
-  // appended to the video. Blocks while every buffer is in use.
+  // appended to the video. Blocks while the frame's buffer (frame next_ - kBuffers's)
+  // is still being written: the two PNG threads finish frames out of order.
   void push(const cv::Mat& image, const std::string& name) {
     std::unique_lock<std::mutex> lock(mutex_);
-    space_.wait(lock, [&] { return error_ || in_flight_ < kBuffers; });
-    if (error_) std::rethrow_exception(error_);
     Buffer& b = buffers_[next_ % kBuffers];
-    lock.unlock();  // the buffer is free: neither thread reads it until it is queued
+    space_.wait(lock, [&] { return error_ || b.pending == 0; });
+    if (error_) std::rethrow_exception(error_);
+    lock.unlock();  // the buffer is free: no thread reads it until it is queued
     image.copyTo(b.image);  // same size and type: no allocation
     b.name = name;
-    b.pending = 2;
     lock.lock();
+    b.pending = 2;
     ++next_;
-    ++in_flight_;
     work_.notify_all();
   }
 
@@ -391,11 +393,12 @@ class FrameWriter {
   struct Buffer {
     cv::Mat image;
     std::string name;
-    int pending = 0;  // threads yet to write it
+    int pending = 0;  // writers yet to write it (its PNG thread, the video thread)
   };
 
-  void run(Role role) {
-    std::size_t k = 0;  // this thread's next frame
+  // Writes frames first, first + stride, ... as they are queued.
+  void run(Role role, std::size_t first, std::size_t stride) {
+    std::size_t k = first;  // this thread's next frame
     for (;;) {
       std::unique_lock<std::mutex> lock(mutex_);
       work_.wait(lock, [&] { return error_ || stopping_ || k < next_ || closing_; });
@@ -415,16 +418,14 @@ class FrameWriter {
         return;
       }
       lock.lock();
-      if (--b.pending == 0) {
-        --in_flight_;
-        space_.notify_all();
-      }
-      ++k;
+      if (--b.pending == 0) space_.notify_all();
+      k += stride;
     }
   }
 
   void join() {
-    if (png_thread_.joinable()) png_thread_.join();
+    for (std::thread& t : png_threads_)
+      if (t.joinable()) t.join();
     if (video_thread_.joinable()) video_thread_.join();
   }
 
@@ -443,10 +444,9 @@ class FrameWriter {
   std::mutex mutex_;
   std::condition_variable work_, space_;
   std::size_t next_ = 0;  // frames queued so far
-  int in_flight_ = 0;     // buffers queued and not yet written by both threads
   bool closing_ = false, stopping_ = false;
   std::exception_ptr error_;
-  std::thread png_thread_, video_thread_;  // last: started once everything above exists
+  std::thread png_threads_[kPngThreads], video_thread_;  // last: started once everything above exists
 };
 
 }  // namespace

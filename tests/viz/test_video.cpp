@@ -211,6 +211,56 @@ TEST(Video, FromImageFiles) {
   EXPECT_FALSE(fs::exists(dir / "broken.tmp.mp4"));
 }
 
+// The quality bound of the default preset (VideoOptions::h264_preset): on rendered
+// frames (the stored reference render, panned 6 px a frame so every frame moves) the
+// decoded video's mean PSNR against the frames is within 0.5 dB of x264's "medium" at
+// the same CRF, and above 33 dB.
+double mean_psnr(const std::vector<cv::Mat>& frames, const std::string& path, const VideoOptions& options) {
+  write_video(frames, path, 30.0, options);
+  const std::vector<cv::Mat> decoded = decode_all(path);
+  EXPECT_EQ(decoded.size(), frames.size());
+  double sum = 0;
+  for (std::size_t i = 0; i < decoded.size() && i < frames.size(); ++i) sum += cv::PSNR(decoded[i], frames[i]);
+  return sum / static_cast<double>(frames.size());
+}
+
+TEST(Video, TheDefaultPresetKeepsMediumsQualityOnRenderedFrames) {
+  TempDir dir;
+  const cv::Mat render = cv::imread(std::string(DMBD_SOURCE_DIR) + "/tests/report/data/render_three_quarter_960x540.png",
+                                    cv::IMREAD_COLOR);
+  ASSERT_FALSE(render.empty());
+  std::vector<cv::Mat> frames;
+  for (int i = 0; i < 16; ++i) frames.push_back(render(cv::Rect(6 * i, 0, 640, 480)).clone());
+  VideoOptions medium;
+  medium.h264_preset = "medium";
+  const double psnr_default = mean_psnr(frames, dir / "default.mp4", {});
+  const double psnr_medium = mean_psnr(frames, dir / "medium.mp4", medium);
+  EXPECT_GE(psnr_default, psnr_medium - 0.5) << "default " << psnr_default << " dB, medium " << psnr_medium << " dB";
+  EXPECT_GT(psnr_default, 33.0);
+}
+
+TEST(Video, AnUnknownPresetOrACrfOutOfRangeIsRefused) {
+  TempDir dir;
+  VideoOptions typo;
+  typo.h264_preset = "ultrafest";
+  try {
+    VideoWriter(dir / "v.mp4", 25.0, typo);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown x264 preset 'ultrafest'"), std::string::npos) << e.what();
+  }
+  for (int crf : {-1, 52}) {
+    VideoOptions o;
+    o.h264_crf = crf;
+    EXPECT_THROW(VideoWriter(dir / "v.mp4", 25.0, o), std::invalid_argument) << crf;
+  }
+  VideoOptions slow;
+  slow.h264_preset = "veryslow";
+  slow.h264_crf = 0;
+  EXPECT_NO_THROW(VideoWriter(dir / "v.mp4", 25.0, slow));
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
 TEST(Video, MissingDirectoryThrowsAndLeavesNothing) {
   TempDir dir;
   const std::string path = dir / "no_such_dir/video.mp4";

@@ -1,5 +1,5 @@
-// MP4 video writing through OpenCV's FFmpeg backend: H.264 first, MPEG-4 Part 2 as a
-// fallback, into a temporary file renamed on success.
+// MP4 video writing through FFmpeg's libraries (av_encoder.hpp): H.264 first, MPEG-4
+// Part 2 as a fallback, into a temporary file renamed on success.
 #include "dmbd/viz/video.hpp"
 
 #include <algorithm>
@@ -17,24 +17,14 @@
 #include <fmt/ranges.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
+#include "av_encoder.hpp"
 #include "dmbd/base/temporaries.hpp"
 
 namespace dmbd::viz {
 namespace {
 
 namespace fs = std::filesystem;
-
-int fourcc_of(VideoCodec codec) {
-  switch (codec) {
-    case VideoCodec::H264:
-      return cv::VideoWriter::fourcc('a', 'v', 'c', '1');
-    case VideoCodec::Mpeg4Part2:
-      return cv::VideoWriter::fourcc('m', 'p', '4', 'v');
-  }
-  return 0;
-}
 
 bool ends_with_mp4(const std::string& path) {
   if (path.size() < 4) return false;
@@ -78,6 +68,20 @@ cv::Mat to_even_bgr(const cv::Mat& frame) {
   return padded;
 }
 
+// x264's presets, fastest first. An unknown one would make libx264 fail to open and
+// the writer fall back to MPEG-4 without a word, so it is refused here.
+constexpr const char* kPresets[] = {"ultrafast", "superfast", "veryfast", "faster", "fast",
+                                    "medium",    "slow",      "slower",   "veryslow", "placebo"};
+
+void validate_h264_settings(const std::string& path, const VideoOptions& options) {
+  if (std::find(std::begin(kPresets), std::end(kPresets), options.h264_preset) == std::end(kPresets))
+    throw std::invalid_argument(fmt::format("viz: video '{}': unknown x264 preset '{}' (expected one of {})", path,
+                                            options.h264_preset, fmt::join(kPresets, ", ")));
+  if (options.h264_crf < 0 || options.h264_crf > 51)
+    throw std::invalid_argument(
+        fmt::format("viz: video '{}': x264 CRF {} is outside 0 ... 51", path, options.h264_crf));
+}
+
 }  // namespace
 
 std::string to_string(VideoCodec codec) {
@@ -95,41 +99,47 @@ struct VideoWriter::Impl {
   std::unique_ptr<TemporaryPath> removed_on_signal;  // tmp, while it may exist
   double fps = 0.0;
   VideoOptions options;
-  cv::VideoWriter writer;
+  std::unique_ptr<detail::AvEncoder> writer;
   cv::Size input_size, encoded_size;
   VideoCodec codec = VideoCodec::H264;
   int frames = 0;
   bool finished = false;
 
   ~Impl() {
-    if (writer.isOpened()) writer.release();
+    writer.reset();
     if (!finished && !tmp.empty()) remove_quietly(tmp);
   }
 
   // Drop the encoder and the temporary file (after an error).
   void abandon() {
-    if (writer.isOpened()) writer.release();
+    writer.reset();
     remove_quietly(tmp);
+  }
+
+  // One frame into the encoder; after a failure (a full disk) nothing is left behind.
+  void encode(const cv::Mat& even) {
+    try {
+      writer->write(even);
+    } catch (...) {
+      abandon();
+      throw;
+    }
+    ++frames;
   }
 
   void open(cv::Size size) {
     remove_quietly(tmp);  // a leftover of an interrupted run
     std::vector<std::string> tried;
     for (VideoCodec c : options.codecs) {
-      bool opened = false;
-      try {
-        opened = writer.open(tmp, cv::CAP_FFMPEG, fourcc_of(c), fps, size, true);
-      } catch (const cv::Exception&) {
-        opened = false;
-      }
-      if (opened && writer.isOpened()) {
+      std::string why;
+      writer = detail::AvEncoder::open(tmp, c, size, fps, options, &why);
+      if (writer) {
         codec = c;
         encoded_size = size;
         return;
       }
-      writer.release();
       remove_quietly(tmp);
-      tried.push_back(to_string(c));
+      tried.push_back(fmt::format("{} ({})", to_string(c), why));
     }
     throw std::runtime_error(fmt::format(
         "viz: cannot write video '{}': FFmpeg could not open '{}' ({}x{} px, {} fps) with {}; does the directory "
@@ -145,6 +155,7 @@ VideoWriter::VideoWriter(std::string path, double fps, VideoOptions options) : i
     throw std::invalid_argument(fmt::format("viz: video '{}': fps must be finite and positive, got {}", path, fps));
   if (options.codecs.empty())
     throw std::invalid_argument(fmt::format("viz: video '{}': no codec to try (VideoOptions::codecs is empty)", path));
+  validate_h264_settings(path, options);
   impl_->tmp = temporary_name(path);
   impl_->removed_on_signal = std::make_unique<TemporaryPath>(impl_->tmp);
   impl_->path = std::move(path);
@@ -163,12 +174,11 @@ void VideoWriter::write(const cv::Mat& frame) {
     d.abandon();
     throw std::invalid_argument(fmt::format("viz: video '{}': frame {} is empty", d.path, d.frames));
   }
-  if (d.frames == 0 && !d.writer.isOpened()) {
+  if (d.frames == 0 && !d.writer) {
     d.input_size = frame.size();
     const cv::Mat even = to_even_bgr(frame);
     d.open(even.size());
-    d.writer.write(even);
-    ++d.frames;
+    d.encode(even);
     return;
   }
   if (frame.size() != d.input_size) {
@@ -184,18 +194,23 @@ void VideoWriter::write(const cv::Mat& frame) {
     d.abandon();
     throw;
   }
-  d.writer.write(even);
-  ++d.frames;
+  d.encode(even);
 }
 
 VideoInfo VideoWriter::finish() {
   Impl& d = *impl_;
   if (d.finished) throw std::runtime_error(fmt::format("viz: video '{}' is already finished", d.path));
-  if (d.frames == 0 || !d.writer.isOpened()) {
+  if (d.frames == 0 || !d.writer) {
     d.abandon();
     throw std::runtime_error(fmt::format("viz: cannot write video '{}': no frame was written", d.path));
   }
-  d.writer.release();  // flushes the encoder and writes the MP4 index
+  try {
+    d.writer->finish();  // flushes the encoder and writes the MP4 index
+  } catch (...) {
+    d.abandon();
+    throw;
+  }
+  d.writer.reset();
   std::error_code ec;
   const auto bytes = fs::file_size(d.tmp, ec);
   if (ec || bytes == 0) {

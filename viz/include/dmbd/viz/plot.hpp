@@ -83,7 +83,9 @@ std::string format_tick(double value);
 std::pair<double, double> nice_limits(double lo, double hi, Scale scale);
 // The tab10-like palette used for automatic series colours (cycles every 10).
 Color palette_color(std::size_t index);
-// PNG bytes of an image (throws std::runtime_error if OpenCV cannot encode it).
+// PNG bytes of an image: 8-bit grey, BGR or BGRA by libdeflate (src/png.cpp), other
+// depths by OpenCV. Throws std::runtime_error for an empty image or one that cannot be
+// encoded.
 std::vector<unsigned char> encode_png(const cv::Mat& image);
 
 }  // namespace dmbd::viz
