@@ -225,5 +225,59 @@ TEST(QpSolver, ReusedSolverForgetsThePreviousProblem) {
   EXPECT_EQ((reused.mu_in() - fresh.mu_in()).norm(), 0.0);
 }
 
+// A sequence of problems that drift, as a controller's do from tick to tick: warm
+// started, each solve gives the cold solve's minimiser and multipliers (to 1e-9 of the
+// problem's scale), and both paths are taken: going on from the previous active set, and
+// starting again when a multiplier of it turns negative.
+TEST(QpSolver, WarmStartGivesTheColdSolutionAlongADriftingSequence) {
+  std::mt19937 rng(11);
+  Problem p = random_feasible(rng, 16, 0, 32);
+  const MatrixXd da = random_matrix(rng, 16, 1), db = random_matrix(rng, 32, 1);
+  QpSolver warm(16, 0, 32), cold(16, 0, 32);
+  warm.set_warm_start(true);
+  int went_on = 0, restarted = 0;
+  for (int tick = 0; tick < 400; ++tick) {
+    const double phase = 0.05 * tick;
+    Problem q = p;
+    q.a += 3.0 * std::sin(phase) * da;  // the active set changes along the way
+    q.b_in += 0.2 * std::sin(0.7 * phase) * db;
+    ASSERT_EQ(solve(cold, q), QpStatus::Optimal) << tick;
+    ASSERT_EQ(solve(warm, q), QpStatus::Optimal) << tick;
+    const double scale = 1.0 + cold.x().norm() + cold.mu_in().norm();
+    EXPECT_LT((warm.x() - cold.x()).norm(), 1e-9 * scale) << tick;
+    EXPECT_LT((warm.mu_in() - cold.mu_in()).norm(), 1e-9 * scale) << tick;
+    expect_kkt(warm, q);
+    if (tick > 0) (warm.warm_started() ? went_on : restarted) += 1;
+  }
+  EXPECT_GT(went_on, 200);
+  EXPECT_GT(restarted, 0);
+  EXPECT_FALSE(cold.warm_started());
+}
+
+// After an infeasible problem the guess is dropped, and a warm solve of a feasible one
+// matches the cold solve; with equalities the warm start keeps them first.
+TEST(QpSolver, WarmStartRecoversFromInfeasibleProblemsAndKeepsEqualities) {
+  std::mt19937 rng(12);
+  const Problem p = random_feasible(rng, 8, 2, 12);
+  Problem bad = p;
+  const VectorXd c = random_matrix(rng, 8, 1);
+  bad.C_in.row(1) = c.transpose();
+  bad.b_in[1] = 1.0;
+  bad.C_in.row(2) = -c.transpose();
+  bad.b_in[2] = 0.0;
+  QpSolver warm(8, 2, 12), cold(8, 2, 12);
+  warm.set_warm_start(true);
+  ASSERT_EQ(solve(warm, p), QpStatus::Optimal);
+  EXPECT_EQ(solve(warm, bad), QpStatus::Infeasible);
+  ASSERT_EQ(solve(warm, p), QpStatus::Optimal);
+  EXPECT_FALSE(warm.warm_started());  // nothing remembered from the infeasible solve
+  ASSERT_EQ(solve(warm, p), QpStatus::Optimal);
+  EXPECT_TRUE(warm.warm_started());
+  ASSERT_EQ(solve(cold, p), QpStatus::Optimal);
+  EXPECT_LT((warm.x() - cold.x()).norm(), 1e-10 * (1.0 + cold.x().norm()));
+  EXPECT_LT((warm.lambda_eq() - cold.lambda_eq()).norm(), 1e-9 * (1.0 + cold.lambda_eq().norm()));
+  expect_kkt(warm, p);
+}
+
 }  // namespace
 }  // namespace dmbd::wholebody::testing

@@ -66,7 +66,7 @@ void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
   assert(J.rows() == J_pre_[k].rows());
   Eigen::MatrixXd& J_pre = J_pre_[k];
   Eigen::VectorXd& res = residual_[k];
-  J_pre.noalias() = J * N_;
+  J_pre.noalias() = J.lazyProduct(N_);  // coefficient by coefficient, as in projection.cpp
   pinv_[k]->compute_diagonal(sqrt_w_, J_pre);
   res = task.error();
   res.noalias() -= J * dq_;
@@ -79,7 +79,7 @@ void PrioritizedIk::add_task(const ModelData& data, const Task& task, int i) {
   res = task.command() - task.jacobian_dot_v();
   res.noalias() -= J * qdd_;
   qdd_.noalias() += pinv_[k]->Jbar() * res;
-  N_.noalias() -= pinv_[k]->Jbar() * J_pre;
+  N_.noalias() -= pinv_[k]->Jbar().lazyProduct(J_pre);
 }
 
 }  // namespace dmbd::wholebody

@@ -83,7 +83,15 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       slack_in_(m_in),
       house_(n),
       working_(n),
+      previous_(n),
       is_active_(m_in) {}
+
+void QpSolver::set_warm_start(bool on) {
+  warm_ = on;
+  previous_count_ = 0;
+  J_start_.resize(on ? n_ : 0, on ? n_ : 0);  // sized here, so that solve() allocates nothing
+  x_start_.resize(on ? n_ : 0);
+}
 
 int QpSolver::active_inequalities() const { return q_ - std::min(q_, m_eq_); }
 
@@ -101,11 +109,66 @@ QpStatus QpSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen
   CinT_ = C_in.transpose();
   for (int i = 0; i < m_in_; ++i) norm_in_[i] = CinT_.col(i).norm();  // most_violated's scales, once a solve
   iterations_ = 0;
+  warm_used_ = false;
   if (!start(G, a)) return QpStatus::NotPositiveDefinite;
+  const bool warm = warm_ && previous_count_ > 0;
+  if (warm) {
+    J_start_ = J_;
+    x_start_ = x_;
+  }
   if (!add_equalities(b_eq)) return QpStatus::Infeasible;
+  if (warm) {
+    warm_used_ = add_previous(b_in);
+    if (!warm_used_) {
+      restart();
+      add_equalities(b_eq);  // succeeded above from the same state
+    }
+  }
   const QpStatus status = add_inequalities(b_in);
   finish(G, a);
+  remember_active_set(status);
   return status;
+}
+
+// The last Optimal solve's active inequalities make the next warm start's guess.
+void QpSolver::remember_active_set(QpStatus status) {
+  previous_count_ = 0;
+  if (!warm_ || status != QpStatus::Optimal) return;
+  for (int k = 0; k < q_; ++k)
+    if (working_[k] >= m_eq_) previous_[previous_count_++] = working_[k] - m_eq_;
+}
+
+// The previous active inequalities added as equalities are (a full step of either sign
+// onto each); true when every inequality's multiplier is then ≥ 0, the dual method's
+// invariant. False (start cold) as well when one has become dependent on the others.
+bool QpSolver::add_previous(const Eigen::Ref<const Eigen::VectorXd>& b_in) {
+  for (int k = 0; k < previous_count_; ++k) {
+    const int i = previous_[k];
+    const Eigen::Ref<const Eigen::VectorXd> n = normal(m_eq_ + i);
+    ++iterations_;
+    step_directions(n);
+    const double curvature = z_.dot(n);
+    if (!(curvature > kDependent * d_.squaredNorm())) return false;
+    const double t = (b_in[i] - n.dot(x_)) / curvature;
+    x_ += t * z_;
+    u_.head(q_) -= t * r_.head(q_);
+    if (!add_to_working_set(m_eq_ + i)) return false;
+    u_[q_ - 1] = t;
+    is_active_[i] = true;
+  }
+  for (int k = 0; k < q_; ++k)
+    if (working_[k] >= m_eq_ && !(u_[k] >= 0.0)) return false;
+  return true;
+}
+
+// start()'s state again: J and x as it left them, an empty working set.
+void QpSolver::restart() {
+  J_ = J_start_;
+  x_ = x_start_;
+  R_.setZero();
+  u_.setZero();
+  is_active_.setConstant(false);
+  q_ = 0;
 }
 
 // The unconstrained minimum x = −G⁻¹ a, J = L⁻ᵀ, an empty working set.

@@ -43,6 +43,7 @@ WbcQp::WbcQp(const Layout& layout, int num_contacts, const WbcQpParams& params)
       limit_(Eigen::VectorXd::Constant(nj_, params.torque_limit_Nm)) {
   for (int j = 0; j < nj_; ++j)
     limit_[j] = std::min(limit_[j], layout.joints[static_cast<size_t>(j)].limits.effort_Nm);
+  qp_.set_warm_start(params.warm_start);
   if (layout.base_dofs != kBase) throw InputError("whole-body QP: the robot's base must be floating");
   if (!std::isfinite(params.w_qdd_base) || params.w_qdd_base == 0.0)
     throw InputError("whole-body QP: w_qdd_base must be positive (or negative for w_qdd)");

@@ -46,12 +46,26 @@ class QpSolver {
   int iterations() const { return iterations_; }
   int active_inequalities() const;
 
+  // Warm start, for a sequence of similar problems (a controller's ticks): solve() first
+  // makes the inequalities active at the last Optimal solve hold with equality, in their
+  // order, as the equalities are; when their multipliers come out ≥ 0 that is a state
+  // of the dual method (the minimum on those constraints, dual feasible) and the method
+  // goes on from it, adding what is still violated; otherwise it starts again from the
+  // unconstrained minimum. The problem being strictly convex, the answer is the same
+  // minimiser either way (to rounding). Off by default.
+  void set_warm_start(bool on);
+  // Whether the last solve went on from the previous active set (false: started cold).
+  bool warm_started() const { return warm_used_; }
+
  private:
   bool start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
   bool start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G);  // G diagonal
   void invert_upper_factor();  // J = L⁻ᵀ from llt_
   bool add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq);
   QpStatus add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_in);
+  bool add_previous(const Eigen::Ref<const Eigen::VectorXd>& b_in);  // warm start; false: start cold
+  void restart();                                      // back to start()'s state (saved)
+  void remember_active_set(QpStatus status);
   int most_violated(const Eigen::Ref<const Eigen::VectorXd>& b_in, double& slack);
   // Working-set constraint k: k < m_eq the equality k, else the inequality k − m_eq.
   Eigen::Ref<const Eigen::VectorXd> normal(int k) const;
@@ -70,6 +84,11 @@ class QpSolver {
   Eigen::VectorXd slack_in_;          // C_in x − b_in (most_violated)
   Eigen::VectorXd house_;             // add_to_working_set's workspace (n)
   Eigen::VectorXi working_;           // constraint index (as in normal()) per position
+  Eigen::VectorXi previous_;          // the last Optimal solve's active inequalities, in order
+  int previous_count_ = 0;
+  bool warm_ = false, warm_used_ = false;
+  Eigen::MatrixXd J_start_;           // J and x after start(), kept for a restart
+  Eigen::VectorXd x_start_;
   Eigen::Matrix<bool, Eigen::Dynamic, 1> is_active_;  // per inequality
   double f_ = 0;
   int q_ = 0;                         // working-set size

@@ -51,6 +51,10 @@ struct WbcQpParams {
   double w_qdd_base = -1.0;
   double torque_limit_Nm = 100.0;    // |τ_j| bound, all joints (the authors' ±100 N m), or the
                                      // joint's own effort limit (Layout) where that is lower
+  // Each solve starts from the last tick's active constraints (QpSolver::set_warm_start):
+  // the same minimiser to rounding, in fewer active-set changes while the contacts and
+  // limits that bind stay the same from tick to tick.
+  bool warm_start = true;
 };
 
 class WbcQp {
