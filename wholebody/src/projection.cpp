@@ -8,6 +8,8 @@
 
 #include <Eigen/Jacobi>
 
+#include "spd_inverse.hpp"
+
 namespace dmbd::wholebody {
 
 namespace {
@@ -122,8 +124,7 @@ void DynamicallyConsistentInverse::compute_lambda() {
 bool DynamicallyConsistentInverse::lambda_by_cholesky() {
   task_llt_.compute(JAJt_);
   if (task_llt_.info() != Eigen::Success) return false;
-  Lambda_.setIdentity();
-  task_llt_.solveInPlace(Lambda_);
+  spd_inverse_from_factor(task_llt_.matrixLLT(), VD_, Lambda_);  // VD_: free until lambda_by_eigen
   const double bound = JAJt_.norm() * Lambda_.norm();
   if (!(bound * threshold_ < 1.0)) return false;
   rank_ = static_cast<int>(JAJt_.rows());

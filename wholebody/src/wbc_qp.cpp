@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "dmbd/base/error.hpp"
+#include "spd_inverse.hpp"
 
 namespace dmbd::wholebody {
 
@@ -90,9 +91,11 @@ bool WbcQp::reduce(const ModelData& data, const Eigen::Ref<const Eigen::MatrixXd
                    const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v, const Eigen::Ref<const Eigen::VectorXd>& qdd_cmd) {
   base_inertia_.compute(data.A.topLeftCorner<kBase, kBase>());
   if (base_inertia_.info() != Eigen::Success) return false;
-  // A_bb⁻¹ once (fixed 6 x 6, unrolled), then a product: solving in place against the
-  // 6 x n right-hand side takes Eigen's blocked triangular path, three times the cost.
-  const Eigen::Matrix<double, kBase, kBase> inverse = base_inertia_.solve(Eigen::Matrix<double, kBase, kBase>::Identity());
+  // A_bb⁻¹ once (fixed 6 x 6, from its factor: spd_inverse.hpp), then a product: solving
+  // in place against the 6 x n right-hand side takes Eigen's blocked triangular path,
+  // three times the cost.
+  Eigen::Matrix<double, kBase, kBase> inverse, work;
+  spd_inverse_from_factor(base_inertia_.matrixLLT(), work, inverse);
   base_rhs_.leftCols(nj_) = -data.A.topRightCorner(kBase, nj_);  // [−A_bj, J_c,bᵀ]
   base_rhs_.rightCols(3 * nc_) = J_c.leftCols(kBase).transpose();
   P_.noalias() = inverse.lazyProduct(base_rhs_);
