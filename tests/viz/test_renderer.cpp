@@ -2,7 +2,8 @@
 // against the pinhole formula, z-buffer order independence, silhouette area against
 // the analytic projected area, Lambert shading, the ground grid, near-plane clipping,
 // overlays (paths here; text, CoM and arrows with DRACO's scene in
-// tests/report/test_report_robot.cpp, which also checks render() does not allocate).
+// tests/report/test_report_robot.cpp, which also checks render() does not allocate),
+// the same bytes drawn by any number of threads.
 #include "dmbd/base/file.hpp"
 #include "dmbd/viz/renderer.hpp"
 
@@ -11,7 +12,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -736,6 +740,117 @@ TEST(Ground, ShadowFallsAwayFromTheLight) {
   const int lit = pixel_at(img, *project(cam, Eigen::Vector3d(0.5, 0, 0)))[1];
   EXPECT_LT(in_shadow, lit - 40);
   EXPECT_NEAR(lit, renderer.style().ground_color.g, 2);
+}
+
+// ---------------------------------------------------------------------------------
+// Threads.
+
+// A scene with every kind of mesh: closed boxes (flat normals, culled), a smooth sphere
+// and cylinder, an open two-sided quad without normals (flat shading) and a quad just
+// above the ground that the near plane of one camera cuts.
+Scene threads_scene() {
+  Scene s;
+  s.bodies.push_back({"base", {coloured(box_mesh({0.4, 0.3, 0.5}), 0.6f, 0.3f, 0.2f),
+                               coloured(sphere_mesh(0.18, 20), 0.2f, 0.5f, 0.8f)}});
+  s.bodies.push_back({"arm", {coloured(cylinder_mesh(0.05, 0.8, 16), 0.8f, 0.8f, 0.3f)}});
+  SceneMesh open = coloured(quad(0.6), 0.4f, 0.7f, 0.4f);
+  open.faces = SceneMesh::Faces::TwoSided;
+  s.bodies.push_back({"panel", {open}});
+  s.bodies.push_back({"slab", {coloured(quad(1.2), 0.5f, 0.5f, 0.55f)}});
+  return s;
+}
+
+struct ThreadsFrame {
+  std::vector<Eigen::Isometry3d> X;
+  Camera cam;
+};
+
+// Moving cameras (each pixel drawn), one camera three times in a row (the kept
+// background: drawn and kept, then copied with the shadow drawn again), a camera whose
+// near plane cuts the slab and the base, one below the ground, one looking straight down.
+std::vector<ThreadsFrame> threads_frames(int w, int h) {
+  std::vector<ThreadsFrame> frames;
+  for (int k = 0; k < 9; ++k) {
+    const double a = 0.3 * k;
+    ThreadsFrame f;
+    f.X = {pose({0.1 * k, 0, 0.4}, rot(a, {0, 0, 1})), pose({0, 0.3, 0.6}, rot(0.5 + a, {1, 0.2, 0})),
+           pose({-0.5, -0.4, 0.5}, rot(1.2, {1, 0, 0}) * rot(a, {0, 0, 1})), pose({0.2, 0, 0.002})};
+    const bool fixed = k >= 2 && k <= 4;
+    f.cam = camera({2.5 * std::cos(fixed ? 0.0 : a), -2.5 * std::sin(fixed ? 0.0 : a), 1.4}, {0, 0, 0.4}, w, h);
+    if (k == 6) {
+      f.cam = camera({0.15, 0.05, 0.45}, {-1, 0.3, 0.1}, w, h);
+      f.cam.near_m = 0.2;
+    } else if (k == 7) {
+      f.cam = camera({2, 1, -0.5}, {0, 0, 0.3}, w, h);
+    } else if (k == 8) {
+      f.cam = camera({0.3, 0.2, 4}, {0, 0, 0}, w, h);
+      f.cam.up = Eigen::Vector3d::UnitX();
+    }
+    frames.push_back(f);
+  }
+  return frames;
+}
+
+bool same_bytes(const cv::Mat& a, const cv::Mat& b) {
+  if (a.size() != b.size() || a.type() != b.type()) return false;
+  for (int r = 0; r < a.rows; ++r)
+    if (std::memcmp(a.ptr(r), b.ptr(r), a.cols * a.elemSize()) != 0) return false;
+  return true;
+}
+
+TEST(Threads, SameBytesForAnyThreadCount) {
+  // Sizes not a multiple of the bands' chunks; overlays too (drawn by one thread).
+  Overlays ov;
+  ov.text_lines = {"threads"};
+  ov.com_W = Eigen::Vector3d(0, 0, 0.5);
+  ov.forces.push_back({Eigen::Vector3d(0.2, 0, 0), Eigen::Vector3d(0, 0, 300), {230, 50, 40}});
+  for (const auto& [w, h] : {std::pair{kW, kH}, std::pair{333, 211}}) {
+    const std::vector<ThreadsFrame> frames = threads_frames(w, h);
+    Renderer one(w, h, 1);
+    one.set_scene(threads_scene());
+    ASSERT_EQ(one.thread_count(), 1);
+    std::vector<Renderer> many;
+    for (const int n : {2, 3, 5}) {
+      many.emplace_back(w, h, n);
+      many.back().set_scene(threads_scene());
+      ASSERT_EQ(many.back().thread_count(), n);
+    }
+    std::size_t clipped = 0;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      one.render(frames[k].X, frames[k].cam, ov);
+      clipped += one.stats().triangles_clipped;
+      for (Renderer& r : many) {
+        r.render(frames[k].X, frames[k].cam, ov);
+        const std::string what = std::to_string(r.thread_count()) + " threads, " + std::to_string(w) + "x" +
+                                 std::to_string(h) + ", frame " + std::to_string(k);
+        EXPECT_TRUE(same_bytes(r.image(), one.image())) << what;
+        EXPECT_TRUE(same_bytes(r.inverse_depth(), one.inverse_depth())) << what;
+        EXPECT_TRUE(same_bytes(r.body_ids(), one.body_ids())) << what;
+        EXPECT_EQ(r.stats().triangles_rasterised, one.stats().triangles_rasterised) << what;
+        EXPECT_EQ(r.stats().triangles_clipped, one.stats().triangles_clipped) << what;
+      }
+    }
+    EXPECT_GT(clipped, 0u);  // the frames do exercise clipping
+  }
+}
+
+TEST(Threads, DefaultCountMovesAndInvalidCounts) {
+  const Renderer dflt(kW, kH);
+  EXPECT_GE(dflt.thread_count(), 1);
+  EXPECT_LE(dflt.thread_count(), 2);
+  EXPECT_THROW(Renderer(kW, kH, -1), std::invalid_argument);
+  EXPECT_THROW(Renderer(kW, kH, 65), std::invalid_argument);
+  // A moved renderer keeps its helper threads and draws as before.
+  const std::vector<ThreadsFrame> frames = threads_frames(kW, kH);
+  Renderer a(kW, kH, 2);
+  a.set_scene(threads_scene());
+  const cv::Mat first = a.render(frames[0].X, frames[0].cam).clone();
+  Renderer b(std::move(a));
+  EXPECT_TRUE(same_bytes(b.render(frames[0].X, frames[0].cam), first));
+  Renderer c(kW, kH, 3);
+  c = std::move(b);
+  EXPECT_EQ(c.thread_count(), 2);
+  EXPECT_TRUE(same_bytes(c.render(frames[0].X, frames[0].cam), first));
 }
 
 }  // namespace

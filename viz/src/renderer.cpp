@@ -22,15 +22,27 @@
 // The z-buffer holds 1/z (0 = nothing): larger is nearer.
 //
 // No allocation happens in render() after set_scene(): every buffer is sized before.
+//
+// Threads: the background is drawn by chunks of kBandRows rows, which the threads take
+// in turn; then the rows are dealt out in chunks to the bands (RowBand), and each band,
+// on its own thread, rasterises every triangle restricted to its rows. A row's
+// background, and a pixel's triangles, are computed from the same floats in the same
+// order as by one thread (triangle setup does not depend on the band), so the bytes do
+// not depend on the thread count. The shadow map, the sky table and the overlays are
+// drawn by the calling thread alone.
 #include "dmbd/viz/renderer.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <condition_variable>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <type_traits>
 #include <unordered_map>
 #include <utility>
@@ -65,6 +77,89 @@ struct Renderer::Vertex {
   unsigned code;     // outcode bits below
 };
 
+// What the bands draw of the background (plan_background decides it for the frame):
+// every pixel (kDraw); every pixel without the shadow, kept, then the shaded ground
+// again (kDrawAndKeep); the kept pixels, then the shaded ground again (kFromKept).
+// The shaded ground: the ground's segments that may be on the shadow map, in rows
+// [r_lo, r_hi] and columns [c_lo, c_hi].
+struct Renderer::BackgroundPlan {
+  enum Mode { kDraw, kDrawAndKeep, kFromKept } mode = kDraw;
+  bool shaded = false;
+  int r_lo = 0, r_hi = -1, c_lo = 0, c_hi = -1;
+};
+
+// Helper threads for bands 1 .. n (the caller draws band 0): started by the renderer's
+// constructor, woken once per frame, joined by the destructor. A frame's job is handed
+// over as a function pointer and a context pointer, so nothing is allocated per frame.
+class Renderer::Workers {
+ public:
+  explicit Workers(int helpers) {
+    threads_.reserve(std::size_t(helpers));
+    for (int i = 0; i < helpers; ++i) threads_.emplace_back([this, i] { loop(i + 1); });
+  }
+  ~Workers() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& t : threads_) t.join();
+  }
+  Workers(const Workers&) = delete;
+  Workers& operator=(const Workers&) = delete;
+
+  // job(band) for every band, band 0 on the calling thread; returns when all are done
+  // (also if job(0) throws: the helpers' bands refer to the caller's frame).
+  template <class Job>
+  void run(Job& job) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      fn_ = [](void* ctx, int band) { (*static_cast<Job*>(ctx))(band); };
+      ctx_ = &job;
+      pending_ = static_cast<int>(threads_.size());
+      ++generation_;
+    }
+    wake_.notify_all();
+    struct Wait {
+      Workers& w;
+      ~Wait() {
+        std::unique_lock<std::mutex> lock(w.mutex_);
+        w.done_.wait(lock, [this] { return w.pending_ == 0; });
+      }
+    } wait{*this};
+    job(0);
+  }
+
+ private:
+  void loop(int band) {
+    std::uint64_t seen = 0;
+    for (;;) {
+      void (*fn)(void*, int) = nullptr;
+      void* ctx = nullptr;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+        if (stop_) return;
+        seen = generation_;
+        fn = fn_;
+        ctx = ctx_;
+      }
+      fn(ctx, band);
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (--pending_ == 0) done_.notify_one();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  void (*fn_)(void*, int) = nullptr;
+  void* ctx_ = nullptr;
+  std::uint64_t generation_ = 0;  // one per frame: a helper runs each job once
+  int pending_ = 0;               // helpers still drawing this frame
+  bool stop_ = false;
+  std::vector<std::thread> threads_;
+};
+
 namespace {
 
 constexpr unsigned kNear = 1, kLeft = 2, kRight = 4, kTop = 8, kBottom = 16, kGuard = 32;
@@ -76,7 +171,41 @@ constexpr std::int64_t kHalfSub = kSub / 2;
 constexpr int kShadowN = 256;  // shadow map texels per side
 constexpr int kLutN = 4096;    // linear -> sRGB table entries over [0, 1]
 constexpr int kSkyN = 1024;    // sky colours over the elevation sine in [-1, 1]
-constexpr int kRowArrays = 1;  // float row buffers of the sky, W + 4 floats each
+constexpr int kRowArrays = 1;  // float row buffers of the sky, W + 4 floats each (per band)
+// Rows per chunk, of the background (taken by the threads in turn) and of the meshes
+// (dealt out to the bands in turn): small, so that every band gets its share of the
+// robot, and large enough that a small triangle usually lies in one band's rows (the
+// others skip it after its bounding box).
+constexpr int kBandRows = 8;
+constexpr int kMaxThreads = 64;
+
+}  // namespace
+
+namespace detail {
+
+// The rows of band `index` of `count`: chunk q (rows [q kBandRows, (q + 1) kBandRows))
+// belongs to band q mod count. Iterate with
+//   for (int r = band.first_from(lo); r <= hi; r = band.next(r)).
+struct RowBand {
+  int index = 0, count = 1;
+  // The band's first row at or after r (past the image when none is left).
+  int first_from(int r) const {
+    if (count == 1) return r;
+    const int q = r / kBandRows, k = q % count;
+    return k == index ? r : (q + (index - k + count) % count) * kBandRows;
+  }
+  // The band's row after its row r.
+  int next(int r) const {
+    ++r;
+    return count == 1 || r % kBandRows != 0 ? r : r + (count - 1) * kBandRows;
+  }
+};
+
+}  // namespace detail
+
+namespace {
+
+using detail::RowBand;
 
 // ---------------------------------------------------------------------------------
 // Small helpers.
@@ -195,7 +324,7 @@ struct RVert {
 // otherwise the whole triangle has the colour `flat`.
 template <bool kSmooth>
 void raster_triangle(const RVert& va, const RVert& vb, const RVert& vc, const Target& t, const Shader& sh,
-                     const unsigned char* flat) {
+                     const unsigned char* flat, const RowBand& band) {
   const RVert* v[3] = {&va, &vb, &vc};
   std::int64_t X[3], Y[3];
   for (int i = 0; i < 3; ++i) {
@@ -218,6 +347,8 @@ void raster_triangle(const RVert& va, const RVert& vb, const RVert& vc, const Ta
   const std::int64_t r_lo = std::max<std::int64_t>(0, ceil_div(minY - kHalfSub, kSub));
   const std::int64_t r_hi = std::min<std::int64_t>(t.H - 1, floor_div(maxY - kHalfSub, kSub));
   if (c_lo > c_hi || r_lo > r_hi) return;
+  const std::int64_t r_first = band.first_from(static_cast<int>(r_lo));
+  if (r_first > r_hi) return;  // none of the band's rows
 
   // Edge i from v[i] to v[i+1]: E = a x + b y + c, >= 0 inside (after the tie bias).
   std::int64_t ea[3], eb[3], ec[3], A[3];
@@ -254,7 +385,7 @@ void raster_triangle(const RVert& va, const RVert& vb, const RVert& vc, const Ta
   }
 
   const double dc_lo = double(c_lo), dc_hi = double(c_hi);
-  for (std::int64_t r = r_lo; r <= r_hi; ++r) {
+  for (std::int64_t r = r_first; r <= r_hi; r = band.next(static_cast<int>(r))) {
     const std::int64_t py = r * kSub + kHalfSub;
     std::int64_t E[3];
     double lo = dc_lo - 1.0, hi = dc_hi + 1.0;
@@ -611,10 +742,23 @@ Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) = default;
 Renderer& Renderer::operator=(Renderer&&) = default;
 
-Renderer::Renderer(int width_px, int height_px) : width_(width_px), height_(height_px) {
+namespace {
+
+int default_thread_count() {
+  const unsigned n = std::thread::hardware_concurrency();
+  return n == 0 ? 2 : static_cast<int>(std::min(2u, n));
+}
+
+}  // namespace
+
+Renderer::Renderer(int width_px, int height_px, int threads) : width_(width_px), height_(height_px) {
   if (width_px < 16 || height_px < 16 || width_px > 16384 || height_px > 16384)
     throw std::invalid_argument("viz::Renderer: image size " + std::to_string(width_px) + "x" +
                                 std::to_string(height_px) + " px, expected each in [16, 16384]");
+  if (threads < 0 || threads > kMaxThreads)
+    throw std::invalid_argument("viz::Renderer: " + std::to_string(threads) + " threads, expected 0 (default) to " +
+                                std::to_string(kMaxThreads));
+  threads_ = threads == 0 ? default_thread_count() : threads;
   image_.create(height_, width_, CV_8UC3);
   inv_depth_.create(height_, width_, CV_32F);
   ids_.create(height_, width_, CV_16S);
@@ -623,7 +767,7 @@ Renderer::Renderer(int width_px, int height_px) : width_(width_px), height_(heig
   ids_.setTo(cv::Scalar::all(-1));
   shadow_n_ = kShadowN;
   sky_lut_.assign(3 * kSkyN, 0);
-  row_.assign(std::size_t(kRowArrays) * (std::size_t(width_) + 4), 0.0f);
+  row_.assign(std::size_t(threads_) * kRowArrays * (std::size_t(width_) + 4), 0.0f);
   shadow_.assign(std::size_t(kShadowN) * kShadowN, 0.0f);
   shadow_tmp_.assign(std::size_t(kShadowN) * kShadowN, 0.0f);
   linear_to_srgb_.resize(kLutN);
@@ -652,6 +796,7 @@ Renderer::Renderer(int width_px, int height_px) : width_(width_px), height_(heig
     g.x0 = -m;
     g.y0 = -(m + ref.height);
   }
+  if (threads_ > 1) workers_ = std::make_unique<Workers>(threads_ - 1);
 }
 
 std::size_t Renderer::closed_mesh_count() const {
@@ -765,7 +910,8 @@ void Renderer::set_scene(const Scene& scene) {
   meshes_ = std::move(meshes);
   bodies_ = std::move(bodies);
   triangle_count_ = tris;
-  scratch_.assign(max_vertices, Vertex{});
+  scratch_.assign(max_vertices * std::size_t(threads_), Vertex{});
+  scratch_stride_ = max_vertices;
 }
 
 // ---------------------------------------------------------------------------------
@@ -787,15 +933,120 @@ const cv::Mat& Renderer::render(const std::vector<Eigen::Isometry3d>& X_WB, cons
     cached_inv_depth_.create(height_, width_, CV_32F);
   }
   const Eigen::Isometry3d X_CW = camera_from_world(camera);
+  const Eigen::Isometry3d X_WC = X_CW.inverse();
   if (style_.shadows && style_.ground && camera.position.z() > 0)
     build_shadow_map(X_WB);
   else
     shadow_valid_ = false;
-  draw_background_and_ground(camera, X_CW.inverse());
-  draw_meshes(X_WB, X_CW, focal_length_px(camera), camera.near_m);
+  const BackgroundPlan plan = plan_background(camera, X_WC);
+  const double f = focal_length_px(camera);
+  // The background: chunks of kBandRows rows taken in turn from a shared counter, so
+  // that a thread that falls behind (another process on its core) leaves its share to
+  // the others. Then the meshes by bands, each its own rows.
+  const int chunks = (height_ + kBandRows - 1) / kBandRows;
+  std::atomic<int> next_chunk{0};
+  auto background_job = [&](int thread) {
+    for (int c = next_chunk.fetch_add(1, std::memory_order_relaxed); c < chunks;
+         c = next_chunk.fetch_add(1, std::memory_order_relaxed))
+      draw_background_and_ground(camera, X_WC, plan, c * kBandRows, std::min(height_, (c + 1) * kBandRows), thread);
+  };
+  auto mesh_job = [&](int b) {
+    Stats band_stats;  // the counts are per triangle, the same in every band: band 0's
+    draw_meshes(X_WB, X_CW, f, camera.near_m, RowBand{b, threads_}, b == 0 ? stats_ : band_stats);
+  };
+  if (workers_) {  // each run() returns when all threads are done: the meshes follow the background
+    workers_->run(background_job);
+    workers_->run(mesh_job);
+  } else {  // one thread (or a moved-from renderer's: the bands one after the other)
+    background_job(0);
+    for (int b = 0; b < threads_; ++b) mesh_job(b);
+  }
   draw_overlays(camera, overlays);
   return image_;
 }
+
+namespace {
+
+// Sets to 1 the texels of the N x N map whose centres (i + 0.5, j + 0.5) the triangle
+// p = (x0, y0, x1, y1, x2, y2) covers (sgn: the sign of its area, so the edge functions
+// are >= 0 inside). Four texels at a time, each with the float operations of one at a
+// time (so the same texels; a lane's result does not depend on the others).
+void cover_texels(const std::array<float, 6>& p, float sgn, float* map, int N) {
+  const int i_lo = std::max(0, static_cast<int>(std::ceil(std::min({p[0], p[2], p[4]}) - 0.5f)));
+  const int i_hi = std::min(N - 1, static_cast<int>(std::floor(std::max({p[0], p[2], p[4]}) - 0.5f)));
+  const int j_lo = std::max(0, static_cast<int>(std::ceil(std::min({p[1], p[3], p[5]}) - 0.5f)));
+  const int j_hi = std::min(N - 1, static_cast<int>(std::floor(std::max({p[1], p[3], p[5]}) - 0.5f)));
+  // Edge k from vertex k to k + 1: e_k = sgn ((x_{k+1} - x_k) (y - y_k) - (y_{k+1} - y_k) (x - x_k)).
+  float dx[3], dy[3];
+  for (int k = 0; k < 3; ++k) {
+    const int n = (k + 1) % 3;
+    dx[k] = p[2 * n] - p[2 * k];
+    dy[k] = p[2 * n + 1] - p[2 * k + 1];
+  }
+  const v4f lane{0.0f, 1.0f, 2.0f, 3.0f}, zero = vset(0.0f), vsgn = vset(sgn);
+  for (int j = j_lo; j <= j_hi; ++j) {
+    const float y = j + 0.5f;
+    float* row = map + std::size_t(j) * N;
+    float ky[3];  // the y terms, the same for the whole row
+    for (int k = 0; k < 3; ++k) ky[k] = dx[k] * (y - p[2 * k + 1]);
+    int i = i_lo;
+    for (; i + 3 <= i_hi; i += 4) {
+      const v4f x = vset(float(i)) + lane + vset(0.5f);
+      v4i in = vset(0.0f) == zero;  // all lanes set
+      for (int k = 0; k < 3; ++k) in &= vsgn * (vset(ky[k]) - vset(dy[k]) * (x - vset(p[2 * k]))) >= zero;
+      v4f old;
+      std::memcpy(&old, row + i, sizeof old);
+      const v4i covered = (in & reinterpret_cast<v4i>(vset(1.0f))) | (~in & reinterpret_cast<v4i>(old));
+      std::memcpy(row + i, &covered, sizeof covered);
+    }
+    for (; i <= i_hi; ++i) {
+      const float x = i + 0.5f;
+      bool in = true;
+      for (int k = 0; k < 3; ++k) in = in && sgn * (ky[k] - dy[k] * (x - p[2 * k])) >= 0;
+      if (in) row[i] = 1.0f;
+    }
+  }
+}
+
+// Box blur of radius rb (clipped at the ends) along each row of the N x N map `in`,
+// times inv, into `out`: a running sum along the row. Eight rows at a time: each sum
+// takes the same additions in the same order as alone, but eight independent sums
+// keep the adder busy where one is a chain of dependent additions.
+template <int kRows>
+void blur_row_group(const float* in, float* out, int N, int rb, float inv) {
+  float sum[kRows] = {};
+  for (int i = 0; i < std::min(rb, N); ++i)
+    for (int k = 0; k < kRows; ++k) sum[k] += in[std::size_t(k) * N + i];
+  for (int i = 0; i < N; ++i) {
+    if (i + rb < N)
+      for (int k = 0; k < kRows; ++k) sum[k] += in[std::size_t(k) * N + i + rb];
+    if (i - rb - 1 >= 0)
+      for (int k = 0; k < kRows; ++k) sum[k] -= in[std::size_t(k) * N + i - rb - 1];
+    for (int k = 0; k < kRows; ++k) out[std::size_t(k) * N + i] = sum[k] * inv;
+  }
+}
+void blur_rows(const float* in, float* out, int N, int rb, float inv) {
+  int j = 0;
+  for (; j + 8 <= N; j += 8) blur_row_group<8>(in + std::size_t(j) * N, out + std::size_t(j) * N, N, rb, inv);
+  for (; j < N; ++j) blur_row_group<1>(in + std::size_t(j) * N, out + std::size_t(j) * N, N, rb, inv);
+}
+
+// The same along each column: the running sums of all columns advance a row at a time
+// (whole rows: contiguous, vectorised), each column's in the order of one alone.
+void blur_columns(const float* in, float* out, int N, int rb, float inv) {
+  std::array<float, kShadowN> sum{};
+  for (int j = 0; j < std::min(rb, N); ++j)
+    for (int i = 0; i < N; ++i) sum[i] += in[std::size_t(j) * N + i];
+  for (int j = 0; j < N; ++j) {
+    if (j + rb < N)
+      for (int i = 0; i < N; ++i) sum[i] += in[std::size_t(j + rb) * N + i];
+    if (j - rb - 1 >= 0)
+      for (int i = 0; i < N; ++i) sum[i] -= in[std::size_t(j - rb - 1) * N + i];
+    for (int i = 0; i < N; ++i) out[std::size_t(j) * N + i] = sum[i] * inv;
+  }
+}
+
+}  // namespace
 
 void Renderer::build_shadow_map(const std::vector<Eigen::Isometry3d>& X_WB) {
   shadow_valid_ = false;
@@ -856,21 +1107,7 @@ void Renderer::build_shadow_map(const std::vector<Eigen::Isometry3d>& X_WB) {
       if (m.cull && area <= 0) continue;
       if (area == 0 || !std::isfinite(area)) continue;
       const float sgn = area > 0 ? 1.0f : -1.0f;
-      const int i_lo = std::max(0, static_cast<int>(std::ceil(std::min({a.sx, b.sx, c.sx}) - 0.5f)));
-      const int i_hi = std::min(N - 1, static_cast<int>(std::floor(std::max({a.sx, b.sx, c.sx}) - 0.5f)));
-      const int j_lo = std::max(0, static_cast<int>(std::ceil(std::min({a.sy, b.sy, c.sy}) - 0.5f)));
-      const int j_hi = std::min(N - 1, static_cast<int>(std::floor(std::max({a.sy, b.sy, c.sy}) - 0.5f)));
-      for (int j = j_lo; j <= j_hi; ++j) {
-        const float y = j + 0.5f;
-        float* row = shadow_.data() + std::size_t(j) * N;
-        for (int i = i_lo; i <= i_hi; ++i) {
-          const float x = i + 0.5f;
-          const float e0 = sgn * ((b.sx - a.sx) * (y - a.sy) - (b.sy - a.sy) * (x - a.sx));
-          const float e1 = sgn * ((c.sx - b.sx) * (y - b.sy) - (c.sy - b.sy) * (x - b.sx));
-          const float e2 = sgn * ((a.sx - c.sx) * (y - c.sy) - (a.sy - c.sy) * (x - c.sx));
-          if (e0 >= 0 && e1 >= 0 && e2 >= 0) row[i] = 1.0f;
-        }
-      }
+      cover_texels({a.sx, a.sy, b.sx, b.sy, c.sx, c.sy}, sgn, shadow_.data(), N);
     }
   }
 
@@ -878,46 +1115,53 @@ void Renderer::build_shadow_map(const std::vector<Eigen::Isometry3d>& X_WB) {
   const int rb = std::max(1, static_cast<int>(std::lround(soft / texel / 1.2)));
   const float inv = 1.0f / float(2 * rb + 1);
   for (int pass = 0; pass < 2; ++pass) {
-    for (int j = 0; j < N; ++j) {  // rows -> tmp
-      const float* in = shadow_.data() + std::size_t(j) * N;
-      float* out = shadow_tmp_.data() + std::size_t(j) * N;
-      float sum = 0;
-      for (int i = 0; i < std::min(rb, N); ++i) sum += in[i];
-      for (int i = 0; i < N; ++i) {
-        if (i + rb < N) sum += in[i + rb];
-        if (i - rb - 1 >= 0) sum -= in[i - rb - 1];
-        out[i] = sum * inv;
-      }
-    }
-    for (int i = 0; i < N; ++i) {  // columns -> shadow
-      float sum = 0;
-      for (int j = 0; j < std::min(rb, N); ++j) sum += shadow_tmp_[std::size_t(j) * N + i];
-      for (int j = 0; j < N; ++j) {
-        if (j + rb < N) sum += shadow_tmp_[std::size_t(j + rb) * N + i];
-        if (j - rb - 1 >= 0) sum -= shadow_tmp_[std::size_t(j - rb - 1) * N + i];
-        shadow_[std::size_t(j) * N + i] = sum * inv;
-      }
-    }
+    blur_rows(shadow_.data(), shadow_tmp_.data(), N, rb, inv);
+    blur_columns(shadow_tmp_.data(), shadow_.data(), N, rb, inv);
   }
   shadow_valid_ = true;
 }
 
-void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Isometry3d& X_WC) {
-  // Per row, the view rays d(c) = d0 + c du (world axes, camera-z component 1) hit the
-  // ground (d_z < 0) on one contiguous run of columns, since d_z is affine in c. The sky
-  // is a table lookup by the ray's elevation; the ground is computed four pixels at a
-  // time (GCC/Clang vector extensions: SSE on x86-64, NEON on ARM) in one pass, only
-  // the terms a segment of the run can need (below), and packed to bytes.
-  const double f = focal_length_px(camera);
-  const double cx = 0.5 * width_, cy = 0.5 * height_;
-  const Eigen::Matrix3d R = X_WC.linear();
-  const Eigen::Vector3d C = X_WC.translation();
-  const Eigen::Vector3f du = (R.col(0) / f).cast<float>();
-  const Eigen::Vector3f dv = (R.col(1) / f).cast<float>();
-  const Eigen::Vector3f d00 = (R * Eigen::Vector3d((0.5 - cx) / f, (0.5 - cy) / f, 1.0)).cast<float>();
-  const bool ground = style_.ground && C.z() > 1e-6;
-  const int W = width_;
+namespace {
 
+struct PixelBox {
+  bool seen = true;
+  int r_lo = 0, r_hi = -1, c_lo = 0, c_hi = -1;
+};
+
+// Where the square [x0, x0 + ext] x [y0, y0 + ext] on the ground (the shadow map) may
+// be seen: the box of its corners' projections with two pixels' margin, clamped to the
+// image; the whole image when a corner is not in front of the camera; not seen when
+// the box is off the image.
+PixelBox ground_square_on_image(const Camera& camera, const Eigen::Isometry3d& X_CW, double x0, double y0,
+                                double ext) {
+  const int W = camera.width_px, H = camera.height_px;
+  const double f = focal_length_px(camera), cx = 0.5 * W, cy = 0.5 * H;
+  double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d p_C = X_CW * Eigen::Vector3d(x0 + (k & 1) * ext, y0 + (k >> 1) * ext, 0.0);
+    if (!(p_C.z() > 1e-3)) return PixelBox{true, 0, H - 1, 0, W - 1};
+    const double u = cx + f * p_C.x() / p_C.z(), v = cy + f * p_C.y() / p_C.z();
+    u_min = std::min(u_min, u), u_max = std::max(u_max, u), v_min = std::min(v_min, v), v_max = std::max(v_max, v);
+  }
+  if (u_max < -2 || u_min > W + 2 || v_max < -2 || v_min > H + 2) return PixelBox{false};
+  return PixelBox{true, static_cast<int>(std::clamp(std::floor(v_min) - 2, 0.0, double(H - 1))),
+                  static_cast<int>(std::clamp(std::ceil(v_max) + 2, 0.0, double(H - 1))),
+                  static_cast<int>(std::clamp(std::floor(u_min) - 2, 0.0, double(W - 1))),
+                  static_cast<int>(std::clamp(std::ceil(u_max) + 2, 0.0, double(W - 1)))};
+}
+
+}  // namespace
+
+// The sky table, and whether the background of the last frame's camera can be kept.
+//
+// The background of a camera seen twice in a row (the frames of a run) is kept: the
+// second frame draws it without the shadow into the cache, and every frame from then
+// on copies it and draws again only the ground that may be on the shadow map: the
+// segments whose hit points may be on it, in the rows and columns of the map's
+// projection (its corners on the ground projected; all of them when one is behind
+// the camera). A segment off the map is the same with or without the shadow, so the
+// image is the same as drawing every pixel.
+Renderer::BackgroundPlan Renderer::plan_background(const Camera& camera, const Eigen::Isometry3d& X_WC) {
   // Sky colours by the sine of the elevation in [-1, 1]: horizon -> zenith above,
   // horizon -> floor colour below (seen only without the ground).
   const Rgbf zenith = rgbf(style_.sky_zenith), horizon = rgbf(style_.sky_horizon), floor_c = rgbf(style_.floor_color);
@@ -933,6 +1177,57 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
     put_bgr(sky_lut_.data() + 3 * i, col);
   }
 
+  std::array<double, kBackgroundKeyN> key{};
+  {
+    std::size_t i = 0;
+    const auto put = [&](double v) {
+      if (i < key.size()) key[i++] = v;
+    };
+    const auto put3 = [&](const Eigen::Vector3d& v) { put(v.x()), put(v.y()), put(v.z()); };
+    const auto put_color = [&](const Color& c) { put(c.r), put(c.g), put(c.b); };
+    put3(camera.position), put3(camera.look_at), put3(camera.up), put(camera.fov_y_deg);
+    put(camera.width_px), put(camera.height_px);
+    put(style_.ground), put(style_.grid), put(style_.axes), put(style_.grid_minor_m), put(style_.grid_major_m);
+    put(style_.ground_fade_start_m), put(style_.ground_fade_end_m);
+    put_color(style_.ground_color), put_color(style_.grid_minor_color), put_color(style_.grid_major_color);
+    put_color(style_.axis_x_color), put_color(style_.axis_y_color);
+    put_color(style_.sky_zenith), put_color(style_.sky_horizon), put_color(style_.floor_color);
+  }
+  const bool same = background_seen_ && key == background_key_;
+  background_key_ = key;
+  background_seen_ = true;
+  BackgroundPlan plan;
+  if (!same) {
+    background_cached_ = false;
+    return plan;  // kDraw
+  }
+  plan.mode = background_cached_ ? BackgroundPlan::kFromKept : BackgroundPlan::kDrawAndKeep;
+  background_cached_ = true;
+  if (!shadow_valid_) return plan;
+  const PixelBox box = ground_square_on_image(camera, X_WC.inverse(), shadow_x0_, shadow_y0_, shadow_texel_m_ * shadow_n_);
+  plan.shaded = box.seen;
+  plan.r_lo = box.r_lo, plan.r_hi = box.r_hi, plan.c_lo = box.c_lo, plan.c_hi = box.c_hi;
+  return plan;
+}
+
+void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Isometry3d& X_WC,
+                                          const BackgroundPlan& plan, int r_begin, int r_end, int thread) {
+  // Per row, the view rays d(c) = d0 + c du (world axes, camera-z component 1) hit the
+  // ground (d_z < 0) on one contiguous run of columns, since d_z is affine in c. The sky
+  // is a table lookup by the ray's elevation; the ground is computed four pixels at a
+  // time (GCC/Clang vector extensions: SSE on x86-64, NEON on ARM) in one pass, only
+  // the terms a segment of the run can need (below), and packed to bytes.
+  const double f = focal_length_px(camera);
+  const double cx = 0.5 * width_, cy = 0.5 * height_;
+  const Eigen::Matrix3d R = X_WC.linear();
+  const Eigen::Vector3d C = X_WC.translation();
+  const Eigen::Vector3f du = (R.col(0) / f).cast<float>();
+  const Eigen::Vector3f dv = (R.col(1) / f).cast<float>();
+  const Eigen::Vector3f d00 = (R * Eigen::Vector3d((0.5 - cx) / f, (0.5 - cy) / f, 1.0)).cast<float>();
+  const bool ground = style_.ground && C.z() > 1e-6;
+  const int W = width_;
+
+  const Rgbf horizon = rgbf(style_.sky_horizon);  // the fade's colour (the sky table is plan_background's)
   const Rgbf ground_c = rgbf(style_.ground_color), minor_c = rgbf(style_.grid_minor_color),
              major_c = rgbf(style_.grid_major_color), ax_x = rgbf(style_.axis_x_color),
              ax_y = rgbf(style_.axis_y_color);
@@ -947,8 +1242,8 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
               sh_inv = static_cast<float>(1.0 / shadow_texel_m_);
 
   // Row buffer of W + 4 floats (whole vectors past the run's end are harmless): the
-  // sky's table indices.
-  float* const ZB = row_.data();
+  // sky's table indices. One per thread.
+  float* const ZB = row_.data() + std::size_t(thread) * kRowArrays * (std::size_t(W) + 4);
 
   // Constants as vectors.
   const v4f lane{0.0f, 1.0f, 2.0f, 3.0f};
@@ -1219,88 +1514,43 @@ void Renderer::draw_background_and_ground(const Camera& camera, const Eigen::Iso
 
   const std::integral_constant<int, kAll> kAllRow;
   const std::integral_constant<int, kShadedOnly> kShadedOnlyRow;
-
-  // The background of a camera seen twice in a row (the frames of a run) is kept: the
-  // second frame draws it without the shadow into the cache, and every frame from then
-  // on copies it and draws again only the ground that may be on the shadow map: the
-  // segments whose hit points may be on it, in the rows and columns of the map's
-  // projection (its corners on the ground projected; all of them when one is behind
-  // the camera). A segment off the map is the same with or without the shadow, so the
-  // image is the same as drawing every pixel.
-  std::array<double, kBackgroundKeyN> key{};
-  {
-    std::size_t i = 0;
-    const auto put = [&](double v) {
-      if (i < key.size()) key[i++] = v;
-    };
-    const auto put3 = [&](const Eigen::Vector3d& v) { put(v.x()), put(v.y()), put(v.z()); };
-    const auto put_color = [&](const Color& c) { put(c.r), put(c.g), put(c.b); };
-    put3(camera.position), put3(camera.look_at), put3(camera.up), put(camera.fov_y_deg);
-    put(camera.width_px), put(camera.height_px);
-    put(style_.ground), put(style_.grid), put(style_.axes), put(style_.grid_minor_m), put(style_.grid_major_m);
-    put(style_.ground_fade_start_m), put(style_.ground_fade_end_m);
-    put_color(style_.ground_color), put_color(style_.grid_minor_color), put_color(style_.grid_major_color);
-    put_color(style_.axis_x_color), put_color(style_.axis_y_color);
-    put_color(style_.sky_zenith), put_color(style_.sky_horizon), put_color(style_.floor_color);
-  }
-  const bool same = background_seen_ && key == background_key_;
-  background_key_ = key;
-  background_seen_ = true;
-  if (!same) background_cached_ = false;
-  if (!same) {  // a new camera: draw every pixel
-    for (int r = 0; r < height_; ++r) {
+  const auto for_rows = [&](int lo, int hi, auto&& fn) {
+    for (int r = std::max(lo, r_begin); r <= std::min(hi, r_end - 1); ++r) fn(r);
+  };
+  if (plan.mode == BackgroundPlan::kDraw) {  // a new camera: draw every pixel
+    for_rows(0, height_ - 1, [&](int r) {
       if (shadow)
         draw_row(r, kAllRow, std::true_type{}, 0, W - 1);
       else
         draw_row(r, kAllRow, std::false_type{}, 0, W - 1);
-    }
+    });
     return;
   }
-  // The buffers are made by the first render() (no allocation later), continuous.
-  const std::size_t image_bytes = std::size_t(height_) * W * 3, depth_bytes = std::size_t(height_) * W * sizeof(float);
-  if (!background_cached_) {
-    for (int r = 0; r < height_; ++r) draw_row(r, kAllRow, std::false_type{}, 0, W - 1);
-    std::memcpy(cached_image_.data, image_.data, image_bytes);
-    std::memcpy(cached_inv_depth_.data, inv_depth_.data, depth_bytes);
-    background_cached_ = true;
+  // The kept buffers are made by the first render() (no allocation later).
+  const std::size_t row_bytes = std::size_t(W) * 3, depth_bytes = std::size_t(W) * sizeof(float);
+  if (plan.mode == BackgroundPlan::kDrawAndKeep) {
+    for_rows(0, height_ - 1, [&](int r) {
+      draw_row(r, kAllRow, std::false_type{}, 0, W - 1);
+      std::memcpy(cached_image_.ptr(r), image_.ptr(r), row_bytes);
+      std::memcpy(cached_inv_depth_.ptr(r), inv_depth_.ptr(r), depth_bytes);
+    });
   } else {
-    std::memcpy(image_.data, cached_image_.data, image_bytes);
-    std::memcpy(inv_depth_.data, cached_inv_depth_.data, depth_bytes);
-    for (int r = 0; r < height_; ++r) {
+    for_rows(0, height_ - 1, [&](int r) {
+      std::memcpy(image_.ptr(r), cached_image_.ptr(r), row_bytes);
+      std::memcpy(inv_depth_.ptr(r), cached_inv_depth_.ptr(r), depth_bytes);
       std::int16_t* idrow = ids_.ptr<std::int16_t>(r);
       std::fill(idrow, idrow + W, std::int16_t{-1});
-    }
+    });
   }
-  if (!shadow) return;
-  // The map's projection: its corners on the ground in the camera frame.
-  int r_lo = 0, r_hi = height_ - 1, c_lo = 0, c_hi = W - 1;
-  {
-    const Eigen::Isometry3d X_CW = X_WC.inverse();
-    const double ext = shadow_texel_m_ * N;
-    double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
-    bool all_in_front = true;
-    for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector3d p_C = X_CW * Eigen::Vector3d(shadow_x0_ + (k & 1) * ext, shadow_y0_ + (k >> 1) * ext, 0.0);
-      if (!(p_C.z() > 1e-3)) {
-        all_in_front = false;
-        break;
-      }
-      const double u = cx + f * p_C.x() / p_C.z(), v = cy + f * p_C.y() / p_C.z();
-      u_min = std::min(u_min, u), u_max = std::max(u_max, u), v_min = std::min(v_min, v), v_max = std::max(v_max, v);
-    }
-    if (all_in_front) {  // two pixels' margin
-      c_lo = static_cast<int>(std::clamp(std::floor(u_min) - 2, 0.0, double(W - 1)));
-      c_hi = static_cast<int>(std::clamp(std::ceil(u_max) + 2, 0.0, double(W - 1)));
-      r_lo = static_cast<int>(std::clamp(std::floor(v_min) - 2, 0.0, double(height_ - 1)));
-      r_hi = static_cast<int>(std::clamp(std::ceil(v_max) + 2, 0.0, double(height_ - 1)));
-      if (u_max < -2 || u_min > W + 2 || v_max < -2 || v_min > height_ + 2) return;
-    }
-  }
-  for (int r = r_lo; r <= r_hi; ++r) draw_row(r, kShadedOnlyRow, std::true_type{}, c_lo, c_hi);
+  if (!plan.shaded) return;
+  for_rows(plan.r_lo, plan.r_hi, [&](int r) { draw_row(r, kShadedOnlyRow, std::true_type{}, plan.c_lo, plan.c_hi); });
 }
 
 void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eigen::Isometry3d& X_CW, double f_px,
-                           double near_m) {
+                           double near_m, const RowBand& band, Stats& stats) {
+  // Every band transforms the vertices and sets up every triangle (the same floats),
+  // and fills only its own rows.
+  Vertex* const scratch = scratch_.data() + std::size_t(band.index) * scratch_stride_;
   const float f = static_cast<float>(f_px);
   const float cx = 0.5f * width_, cy = 0.5f * height_;
   const float W = float(width_), H = float(height_);
@@ -1354,16 +1604,16 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
       bool out = c.z() + m.radius < znear;
       for (int k = 0; k < 4 && !out; ++k) out = side[k].dot(c) < -m.radius;
       if (out) {
-        ++stats_.meshes_culled;
+        ++stats.meshes_culled;
         continue;
       }
-      ++stats_.meshes_drawn;
+      ++stats.meshes_drawn;
       const bool smooth = !m.nrm.empty();
       for (int i = 0; i < 3; ++i) sh.albedo[i] = m.albedo[i];
 
       // Vertices to the camera frame, projection and outcodes.
       for (std::size_t i = 0; i < m.pos.size(); ++i) {
-        Vertex& v = scratch_[i];
+        Vertex& v = scratch[i];
         const Eigen::Vector3f q = R * m.pos[i] + p;
         v.x = q.x();
         v.y = q.y();
@@ -1391,10 +1641,10 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
       }
 
       for (const auto& t : m.tri) {
-        ++stats_.triangles_in;
-        const Vertex& a = scratch_[t[0]];
-        const Vertex& bv = scratch_[t[1]];
-        const Vertex& vc = scratch_[t[2]];
+        ++stats.triangles_in;
+        const Vertex& a = scratch[t[0]];
+        const Vertex& bv = scratch[t[1]];
+        const Vertex& vc = scratch[t[2]];
         if (a.code & bv.code & vc.code & kOutside) continue;
         // Facing: the camera (origin) is on the front side of the triangle's plane.
         const float e1x = bv.x - a.x, e1y = bv.y - a.y, e1z = bv.z - a.z;
@@ -1403,7 +1653,7 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
         const float side_dot = fnx * a.x + fny * a.y + fnz * a.z;
         const bool facing = side_dot < 0;
         if (!facing && m.cull) {
-          ++stats_.triangles_backfacing;
+          ++stats.triangles_backfacing;
           continue;
         }
         if (side_dot == 0) continue;  // seen edge-on (or degenerate)
@@ -1416,23 +1666,23 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
           fnz *= inv;
           sh.shade(fnx, fny, fnz, flat);
         }
-        ++stats_.triangles_rasterised;
+        ++stats.triangles_rasterised;
         if (!((a.code | bv.code | vc.code) & (kNear | kGuard))) {
           if (smooth) {
             const RVert r0{a.sx, a.sy, a.iz, flip * a.nx * a.iz, flip * a.ny * a.iz, flip * a.nz * a.iz};
             const RVert r1{bv.sx, bv.sy, bv.iz, flip * bv.nx * bv.iz, flip * bv.ny * bv.iz, flip * bv.nz * bv.iz};
             const RVert r2{vc.sx, vc.sy, vc.iz, flip * vc.nx * vc.iz, flip * vc.ny * vc.iz, flip * vc.nz * vc.iz};
-            raster_triangle<true>(r0, r1, r2, tgt, sh, flat);
+            raster_triangle<true>(r0, r1, r2, tgt, sh, flat, band);
           } else {
             const RVert r0{a.sx, a.sy, a.iz, 0, 0, 0}, r1{bv.sx, bv.sy, bv.iz, 0, 0, 0},
                 r2{vc.sx, vc.sy, vc.iz, 0, 0, 0};
-            raster_triangle<false>(r0, r1, r2, tgt, sh, flat);
+            raster_triangle<false>(r0, r1, r2, tgt, sh, flat, band);
           }
           continue;
         }
         // Clip in camera space: the near plane, then the guard band (needed only when a
         // vertex lies beyond it), so every projected vertex is finite and bounded.
-        ++stats_.triangles_clipped;
+        ++stats.triangles_clipped;
         CVert poly_a[12], poly_b[12];
         const Vertex* tv[3] = {&a, &bv, &vc};
         for (int i = 0; i < 3; ++i)
@@ -1465,9 +1715,9 @@ void Renderer::draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eig
         }
         for (int i = 1; i + 1 < n; ++i) {
           if (smooth)
-            raster_triangle<true>(rv[0], rv[i], rv[i + 1], tgt, sh, flat);
+            raster_triangle<true>(rv[0], rv[i], rv[i + 1], tgt, sh, flat, band);
           else
-            raster_triangle<false>(rv[0], rv[i], rv[i + 1], tgt, sh, flat);
+            raster_triangle<false>(rv[0], rv[i], rv[i + 1], tgt, sh, flat, band);
         }
       }
     }

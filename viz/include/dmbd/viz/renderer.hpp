@@ -1,6 +1,6 @@
 #pragma once
 // The mesh renderer: an engineer's 3-D view of rigid bodies (a simulated robot) on a
-// gridded ground plane, drawn into an OpenCV BGR 8-bit image on one core.
+// gridded ground plane, drawn into an OpenCV BGR 8-bit image by one or a few threads.
 //
 //   dmbd::viz::Renderer renderer(1280, 720);
 //   renderer.set_scene(dmbd::viz::scene_from_robot(robot));   // once: geometry is converted here
@@ -18,9 +18,16 @@
 //
 // After the first render() with a scene, render() does not allocate: it reuses the
 // image, the depth and id buffers and the per-mesh scratch arrays sized by set_scene().
+//
+// Threads: a frame is drawn by `threads` threads (the caller's and threads - 1 helpers
+// the renderer starts once and wakes per frame). They share the background's rows in
+// small chunks, then each rasterises every triangle restricted to its band of rows.
+// Every pixel is computed as with one thread, so the image, the depth and the ids are
+// the same bytes for any thread count.
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +38,10 @@
 #include "dmbd/viz/plot.hpp"  // Color
 
 namespace dmbd::viz {
+
+namespace detail {
+struct RowBand;  // the rows one thread draws (renderer.cpp)
+}  // namespace detail
 
 // ---------------------------------------------------------------------------------
 // Camera: a pinhole looking from `position` at `look_at`, `up` giving the image's
@@ -177,8 +188,10 @@ struct RenderStyle {
 // perspective-correct normal interpolation.
 class Renderer {
  public:
-  // Throws std::invalid_argument unless both sizes are in [16, 16384] px.
-  Renderer(int width_px, int height_px);
+  // Throws std::invalid_argument unless both sizes are in [16, 16384] px and threads is
+  // in [0, 64]. threads: how many threads draw a frame (1: the caller's alone); 0 picks
+  // min(2, std::thread::hardware_concurrency()) (2 when that is unknown).
+  Renderer(int width_px, int height_px, int threads = 0);
   ~Renderer();
   Renderer(Renderer&&);
   Renderer& operator=(Renderer&&);
@@ -193,6 +206,7 @@ class Renderer {
   std::size_t triangle_count() const { return triangle_count_; }
   int width_px() const { return width_; }
   int height_px() const { return height_; }
+  int thread_count() const { return threads_; }
   // Meshes found closed and outward wound, so drawn with back-face culling.
   std::size_t closed_mesh_count() const;
 
@@ -230,21 +244,33 @@ class Renderer {
     int x0 = 0, y0 = 0;  // offset of the mask's top-left from the pen (baseline) position
     cv::Mat coverage;    // CV_8U anti-aliased mask
   };
-  struct PreparedMesh;  // converted geometry (defined in renderer.cpp)
-  struct Vertex;        // per-frame scratch
+  struct PreparedMesh;    // converted geometry (defined in renderer.cpp)
+  struct Vertex;          // per-frame scratch
+  struct BackgroundPlan;  // what the bands draw of the background this frame
+  class Workers;          // the helper threads
 
-  void draw_background_and_ground(const Camera& camera, const Eigen::Isometry3d& X_WC);
   void build_shadow_map(const std::vector<Eigen::Isometry3d>& X_WB);
+  // Serial part of the background (sky table, the kept background's bookkeeping).
+  BackgroundPlan plan_background(const Camera& camera, const Eigen::Isometry3d& X_WC);
+  // Rows [r_begin, r_end) of the background, by thread `thread` (its row buffer).
+  void draw_background_and_ground(const Camera& camera, const Eigen::Isometry3d& X_WC, const BackgroundPlan& plan,
+                                  int r_begin, int r_end, int thread);
+  // The meshes in one band's rows; the bands run at the same time.
   void draw_meshes(const std::vector<Eigen::Isometry3d>& X_WB, const Eigen::Isometry3d& X_CW, double f_px,
-                   double near_m);
+                   double near_m, const detail::RowBand& band, Stats& stats);
 
   int width_, height_;
+  int threads_ = 1;
+  // Helper threads (threads_ - 1 of them; none for one thread). Behind a pointer so
+  // that they keep their address when the renderer moves.
+  std::unique_ptr<Workers> workers_;
   RenderStyle style_;
   cv::Mat image_, inv_depth_, ids_;
   std::vector<PreparedMesh> meshes_;  // all bodies' meshes, flattened
   std::vector<std::size_t> bodies_;   // index of each body's first mesh in meshes_ (+ end)
   std::size_t triangle_count_ = 0;
-  std::vector<Vertex> scratch_;  // per-frame transformed vertices of one mesh
+  std::vector<Vertex> scratch_;  // per-frame transformed vertices of one mesh, per band
+  std::size_t scratch_stride_ = 0;  // vertices per band in scratch_
   // Shadow map: coverage of the ground by the meshes' projections along the light.
   std::vector<float> shadow_, shadow_tmp_;
   int shadow_n_ = 0;
@@ -252,7 +278,7 @@ class Renderer {
   bool shadow_valid_ = false;
   std::vector<unsigned char> linear_to_srgb_;  // 4096 entries over [0, 1]
   std::vector<unsigned char> sky_lut_;         // BGR by elevation
-  std::vector<float> row_;                     // row buffer of the sky
+  std::vector<float> row_;                     // row buffer of the sky, per band
   // The background (sky, ground, grid) without the shadow, kept for a camera seen twice
   // in a row: what decides it (the camera and the looks), and its image and 1/z.
   static constexpr std::size_t kBackgroundKeyN = 43;
