@@ -5,6 +5,7 @@
 // positive definite).
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include <cmath>

@@ -68,7 +68,7 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       m_in_(m_in),
       CeqT_(n, m_eq),
       CinT_(n, m_in),
-      llt_(n),
+      U_(n, n),
       J_(n, n),
       R_(n, n),
       x_(n),
@@ -177,10 +177,10 @@ bool QpSolver::start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Re
   if (is_diagonal(G)) {
     if (!start_diagonal(G)) return false;
   } else {
-    llt_.compute(G);
-    if (llt_.info() != Eigen::Success) return false;
+    if (!factor(G)) return false;
     invert_upper_factor();
-    llt_.solveInPlace(x_);
+    d_.noalias() = J_.transpose() * a;  // x = −G⁻¹ a = −J Jᵀ a
+    x_.noalias() = -J_ * d_;
   }
   R_.setZero();
   u_.setZero();
@@ -189,19 +189,35 @@ bool QpSolver::start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Re
   return true;
 }
 
-// J = U⁻¹ (U = Lᵀ, so Lᵀ J = I), upper triangular, a column at a time by back
-// substitution. Written out because Eigen's triangular solve with the identity as its
-// right-hand side runs its blocked level-3 path on these few rows and ignores that the
-// result is triangular: 14.1 k instructions for the whole-body QP's 16 x 16 against
-// 7.3 k here (callgrind, issue 27's tick). U's row i is L's column i, so each entry is a
-// contiguous dot product.
+// G = Uᵀ U with U upper triangular (the Cholesky factor), column by column: each entry
+// a dot product of two contiguous column segments. Written out because Eigen's LLT of
+// these few rows (16 for the whole-body QP) spends most of its instructions dispatching
+// a matrix-vector product per column (7.6 k against about 2.5 k here, callgrind, issue
+// 29's tick). False unless G is positive definite (a pivot ≤ 0 or not a number).
+bool QpSolver::factor(const Eigen::Ref<const Eigen::MatrixXd>& G) {
+  for (int j = 0; j < n_; ++j) {
+    for (int i = 0; i < j; ++i) U_(i, j) = (G(i, j) - U_.col(i).head(i).dot(U_.col(j).head(i))) / U_(i, i);
+    const double pivot = G(j, j) - U_.col(j).head(j).squaredNorm();
+    if (!(pivot > 0.0)) return false;
+    U_(j, j) = std::sqrt(pivot);
+  }
+  return true;
+}
+
+// J = U⁻¹ (so that Jᵀ G J = I), upper triangular, a column at a time by back
+// substitution in column form (an axpy with U's contiguous column per step). Written
+// out because Eigen's triangular solve with the identity as its right-hand side runs
+// its blocked level-3 path on these few rows and ignores that the result is
+// triangular: 14.1 k instructions for the whole-body QP's 16 x 16 against 7.3 k (issue
+// 27's tick).
 void QpSolver::invert_upper_factor() {
-  const auto& L = llt_.matrixLLT();  // L in the lower triangle
   J_.setZero();
   for (int j = 0; j < n_; ++j) {
-    J_(j, j) = 1.0 / L(j, j);
-    for (int i = j - 1; i >= 0; --i)
-      J_(i, j) = -L.col(i).segment(i + 1, j - i).dot(J_.col(j).segment(i + 1, j - i)) / L(i, i);
+    J_(j, j) = 1.0;
+    for (int k = j; k >= 0; --k) {
+      J_(k, j) /= U_(k, k);
+      J_.col(j).head(k) -= J_(k, j) * U_.col(k).head(k);
+    }
   }
 }
 

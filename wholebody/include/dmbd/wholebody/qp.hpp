@@ -15,7 +15,6 @@
 // negative; the factorisation J = L⁻ᵀ Q and the triangular R are kept up to date (a
 // Householder reflection when a constraint enters, Givens rotations when one leaves).
 // Storage is sized by the constructor; solve() allocates nothing.
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 namespace dmbd::wholebody {
@@ -60,7 +59,8 @@ class QpSolver {
  private:
   bool start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
   bool start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G);  // G diagonal
-  void invert_upper_factor();  // J = L⁻ᵀ from llt_
+  bool factor(const Eigen::Ref<const Eigen::MatrixXd>& G);  // G = Uᵀ U into U_
+  void invert_upper_factor();  // J = U⁻¹
   bool add_equalities(const Eigen::Ref<const Eigen::VectorXd>& b_eq);
   QpStatus add_inequalities(const Eigen::Ref<const Eigen::VectorXd>& b_in);
   bool add_previous(const Eigen::Ref<const Eigen::VectorXd>& b_in);  // warm start; false: start cold
@@ -77,7 +77,7 @@ class QpSolver {
 
   int n_, m_eq_, m_in_;
   Eigen::MatrixXd CeqT_, CinT_;       // constraint normals as columns
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::MatrixXd U_;                 // G's Cholesky factor (upper)
   Eigen::MatrixXd J_, R_;
   Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
   Eigen::VectorXd norm_in_;           // ‖C_in row i‖ of this solve
