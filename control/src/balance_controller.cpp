@@ -141,9 +141,10 @@ void BalanceController::Impl::bind_actuators(const std::vector<model::ActuatorPa
 double BalanceController::Impl::actuator_force(int j) const {
   const auto k = static_cast<size_t>(j);
   const model::ActuatorParams& g = *actuator[k];
-  const double F = tau_ff[j] * g.N_l(joint_q[j]);
+  const model::LinkagePoint l = g.transmission(joint_q[j]);
+  const double r = l.moment_arm_m, dr = l.dmoment_arm_dq_m;
+  const double F = tau_ff[j] * (1.0 / r);
   if (!setup.actuator_feedforward) return F;
-  const double r = g.moment_arm(joint_q[j]), dr = g.dmoment_arm_dq(joint_q[j]);
   const double xd = r * qd_des[j], xdd = r * qdd_joint[j] + dr * qd_des[j] * qd_des[j];
   return (F + rotor_mass[k] * xdd + actuator_damping[k] * xd) / efficiency[k];
 }

@@ -18,36 +18,36 @@ constexpr double kPi = 3.14159265358979323846;
 
 // ---- LinkageGeometry ------------------------------------------------------------------
 
-double LinkageGeometry::length_m(double q) const {
-  const double g = gamma0_rad + sign * q;
-  return std::sqrt(a_m * a_m + b_m * b_m - 2.0 * a_m * b_m * std::cos(g));
-}
+double LinkageGeometry::length_m(double q) const { return at(q).length_m; }
+double LinkageGeometry::moment_arm_m(double q) const { return at(q).moment_arm_m; }
+double LinkageGeometry::dmoment_arm_dq_m(double q) const { return at(q).dmoment_arm_dq_m; }
+double LinkageGeometry::N_l(double q) const { return 1.0 / at(q).moment_arm_m; }
 
-double LinkageGeometry::moment_arm_m(double q) const {
+// One sine and one cosine of gamma for all three (the plant and the controllers want
+// them together, at every step, for every actuator).
+LinkagePoint LinkageGeometry::at(double q) const {
   const double g = gamma0_rad + sign * q;
-  return sign * a_m * b_m * std::sin(g) / length_m(q);
-}
-
-double LinkageGeometry::dmoment_arm_dq_m(double q) const {
+  const double sg = std::sin(g), cg = std::cos(g);
+  const double x = std::sqrt(a_m * a_m + b_m * b_m - 2.0 * a_m * b_m * cg);
+  const double s = a_m * b_m * sg;
   // d/dq (sign ab sin g / x) with dg/dq = sign, dx/dq = sign ab sin g / x; sign^2 = 1:
   //   ab cos g / x - (ab sin g)^2 / x^3.
-  const double g = gamma0_rad + sign * q;
-  const double x = length_m(q);
-  const double s = a_m * b_m * std::sin(g);
-  return a_m * b_m * std::cos(g) / x - s * s / (x * x * x);
+  return {x, sign * s / x, a_m * b_m * cg / x - s * s / (x * x * x)};
 }
 
-double LinkageGeometry::N_l(double q) const { return 1.0 / moment_arm_m(q); }
-
+// The law of cosines solved for gamma: cos gamma = (a^2 + b^2 - x^2) / (2 a b), on the
+// branch (+-acos + 2 pi k) nearest the guess's gamma, the one Newton's method from the
+// guess would reach while the moment arm keeps its sign. A length out of the linkage's
+// reach gives the nearest end (gamma = 0 or pi).
 double LinkageGeometry::angle_for_length_change(double dx, double guess) const {
-  const double target = length_m(0) + dx;
-  double q = guess;
-  for (int it = 0; it < 30; ++it) {
-    const double step = (length_m(q) - target) / moment_arm_m(q);
-    q -= step;
-    if (std::abs(step) < 1e-13) break;
-  }
-  return q;
+  constexpr double kTwoPi = 2.0 * kPi;
+  const double x = length_m(0.0) + dx;
+  const double c = std::clamp((a_m * a_m + b_m * b_m - x * x) / (2.0 * a_m * b_m), -1.0, 1.0);
+  const double g0 = std::acos(c), guess_g = gamma0_rad + sign * guess;
+  const double g_plus = g0 + kTwoPi * std::round((guess_g - g0) / kTwoPi);
+  const double g_minus = -g0 + kTwoPi * std::round((guess_g + g0) / kTwoPi);
+  const double g = std::abs(g_plus - guess_g) <= std::abs(g_minus - guess_g) ? g_plus : g_minus;
+  return sign * (g - gamma0_rad);
 }
 
 // ---- LinkageTable ---------------------------------------------------------------------
@@ -102,6 +102,9 @@ double LinkageTable::N_l(double q) const {
 // ---- ActuatorParams: the transmission ---------------------------------------------------
 
 double ActuatorParams::moment_arm(double q) const { return is_rotary() ? 1.0 : linkage.moment_arm_m(q); }
+LinkagePoint ActuatorParams::transmission(double q) const {
+  return is_rotary() ? LinkagePoint{q, 1.0, 0.0} : linkage.at(q);
+}
 double ActuatorParams::dmoment_arm_dq(double q) const { return is_rotary() ? 0.0 : linkage.dmoment_arm_dq_m(q); }
 double ActuatorParams::N_l(double q) const { return is_rotary() ? 1.0 : linkage.N_l(q); }
 double ActuatorParams::travel(double q) const { return is_rotary() ? q : linkage.length_m(q) - linkage.length_m(0.0); }

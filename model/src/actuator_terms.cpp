@@ -43,7 +43,8 @@ GearFriction gear_friction(const ActuatorParams& p, double w) {
 // bit-identical across the rotary kinds' addition).
 ActuatorTerms actuator_terms(const ActuatorParams& p, double q, double qd, double s, double sd, double current_A) {
   if (p.is_rotary()) return rotary_terms(p, qd, s, sd, current_A);
-  const double r = p.linkage.moment_arm_m(q), dr = p.linkage.dmoment_arm_dq_m(q);
+  const LinkagePoint l = p.linkage.at(q);
+  const double r = l.moment_arm_m, dr = l.dmoment_arm_dq_m;
   const double Jr = p.reflected_mass_kg(), Br = p.reflected_damping_Ns_per_m();
   const Eigen::Vector2d a(r, 1.0);
   const double w = r * qd + sd;

@@ -132,11 +132,17 @@ PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
   idx_.reserve(static_cast<std::size_t>(nv()));
 }
 
+// The plant sets its state after every advance (for its readers) and each step sets it
+// again: the kernel keeps its position and velocity passes when the tree's part of the
+// state is bit for bit the one it holds (a NaN never compares equal: it is always set).
 void PlantDynamics::set_state(const Eigen::Ref<const Eigen::VectorXd>& Q, const Eigen::Ref<const Eigen::VectorXd>& V) {
+  const bool same_q = kernel_set_ && Q_.head(ntq_) == Q.head(ntq_);
+  const bool same_v = same_q && V_.head(ntv_) == V.head(ntv_);
   Q_ = Q;
   V_ = V;
-  kernel_.set_q(Q_.head(ntq_));
-  kernel_.set_v(V_.head(ntv_));
+  if (!same_q) kernel_.set_q(Q_.head(ntq_));
+  if (!same_v) kernel_.set_v(V_.head(ntv_));
+  kernel_set_ = true;
 }
 
 Eigen::Vector3d PlantDynamics::world_point(int body, const Eigen::Vector3d& p_B) const {

@@ -198,6 +198,7 @@ class PlantDynamics {
   double housing_mass_ = 0;
   int ntq_ = 0, ntv_ = 0, na_ = 0, ns_ = 0;
   Eigen::VectorXd Q_, V_;
+  bool kernel_set_ = false;                // the kernel holds Q_'s and V_'s tree part
   Eigen::MatrixXd A_;
   Eigen::VectorXd r_, kv_, c_tree_;
   Eigen::Matrix3Xd G_, WG_;                // scratch: compact point Jacobian, W times it

@@ -107,6 +107,42 @@ TEST(Linkage, VirtualWorkTorqueTimesAngleEqualsForceTimesTravel) {
   }
 }
 
+// The closed-form inverse of the length against the forward length, on both test
+// geometries and on a linkage whose gamma lies in (2 pi, 3 pi) (the branch k = 1, which
+// only the guess can select). Round trip: q -> x(q) - x(0) -> q over gamma in
+// [0.5, pi - 0.5] (a linkage's working range stays off its singular ends 0 and pi).
+// acos loses eps / sin(gamma) of gamma and the length's round-off eps x / r: 1e-12 rad
+// covers both with two orders to spare; a wrong branch is off by at least 1 rad. The
+// guess is up to 0.4 rad off, on the same side of the singular ends (the side, not the
+// distance, is what selects the branch: Newton's method from it converges there too).
+TEST(Linkage, AngleForLengthChangeInvertsTheLengthOnTheGuessedBranch) {
+  const dm::LinkageGeometry wound{0.07, 0.25, 2 * kPi + 1.6, 1.0};
+  for (const dm::LinkageGeometry& g : {knee_geometry(), mirrored_geometry(), wound}) {
+    const double turns = 2 * kPi * std::floor(g.gamma0_rad / (2 * kPi));
+    for (double gamma : grid(0.5, kPi - 0.5, 31)) {
+      const double q = g.sign * (turns + gamma - g.gamma0_rad);
+      const double dx = g.length_m(q) - g.length_m(0.0);
+      for (double off : {-0.4, 0.0, 0.4})
+        EXPECT_NEAR(g.angle_for_length_change(dx, q + off), q, 1e-12) << "q = " << q << " sign = " << g.sign;
+    }
+  }
+  // Beyond the linkage's reach: the nearest end of its stroke (gamma = pi: the longest).
+  const dm::LinkageGeometry k = knee_geometry();
+  const double q_pi = kPi - k.gamma0_rad;
+  EXPECT_NEAR(k.angle_for_length_change(1.0, 1.0), q_pi, 1e-12);
+}
+
+// at(q) is the three single evaluations at once, bit for bit.
+TEST(Linkage, AtGivesLengthMomentArmAndItsDerivativeTogether) {
+  for (const dm::LinkageGeometry& g : {knee_geometry(), mirrored_geometry()})
+    for (double q : grid(-0.5, 1.2, 17)) {
+      const dm::LinkagePoint p = g.at(q);
+      EXPECT_EQ(p.length_m, g.length_m(q));
+      EXPECT_EQ(p.moment_arm_m, g.moment_arm_m(q));
+      EXPECT_EQ(p.dmoment_arm_dq_m, g.dmoment_arm_dq_m(q));
+    }
+}
+
 // The firmware-style table against the exact N_l, on a grid 10x finer than the table's
 // and offset from its knots. Measured (200 samples, every DRACO linkage over its range):
 // max relative error 6.7e-5 (hip pitch, whose N_l climbs to 51 rad/m at the range ends),

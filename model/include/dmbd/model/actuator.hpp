@@ -28,6 +28,14 @@ struct RobotDescription;
 // Its moment arm is r(q) = dx/dq = sign * a b sin(gamma) / x (m/rad) and the joint-side
 // ratio of the paper is N_l(q) = dq/dx = 1 / r(q) (rad/m). The joint torque from an
 // actuator force F (pushing the pivots apart, N) is tau = F * r(q).
+// The linkage at one joint angle: its length x (m), moment arm dx/dq (m/rad) and
+// d2x/dq2 (m/rad^2).
+struct LinkagePoint {
+  double length_m = 0;
+  double moment_arm_m = 0;
+  double dmoment_arm_dq_m = 0;
+};
+
 struct LinkageGeometry {
   double a_m = 0.05;
   double b_m = 0.30;
@@ -38,8 +46,10 @@ struct LinkageGeometry {
   double moment_arm_m(double q) const;       // dx/dq
   double dmoment_arm_dq_m(double q) const;   // d2x/dq2
   double N_l(double q) const;                // dq/dx = 1 / moment_arm
-  // The joint angle whose length change x(q) - x(0) is dx, by Newton's method from
-  // `guess` (the firmware's lookup from actuator travel to joint angle, done exactly).
+  LinkagePoint at(double q) const;           // the three above at once
+  // The joint angle whose length change x(q) - x(0) is dx, in closed form on the branch
+  // of gamma nearest `guess` (the firmware's lookup from actuator travel to joint
+  // angle, done exactly).
   double angle_for_length_change(double dx, double guess) const;
 };
 
@@ -125,8 +135,10 @@ struct ActuatorParams {
   double dmoment_arm_dq(double q) const;   // r'(q): linkage d2x/dq2 (m/rad^2), or 0
   double N_l(double q) const;              // 1 / moment_arm(q): rad/m, or 1
   double travel(double q) const;           // x(q) - x(0) (m), or q (rad)
-  // The joint angle whose travel is dx (the inverse of travel(); Newton's method from
-  // `guess` for a linkage, exact for a gear).
+  // moment_arm and dmoment_arm_dq at once (length_m: the linkage's length; a gear's q).
+  LinkagePoint transmission(double q) const;
+  // The joint angle whose travel is dx (the inverse of travel(); for a linkage on the
+  // branch nearest `guess`).
   double angle_for_travel(double dx, double guess) const;
   bool has_spring() const { return kind != ActuatorKind::ROTARY; }  // RFSEA, FSEA, ROTARY_SEA
   bool is_rotary() const { return kind == ActuatorKind::ROTARY || kind == ActuatorKind::ROTARY_SEA; }
