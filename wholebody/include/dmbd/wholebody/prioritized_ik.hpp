@@ -49,7 +49,7 @@ class PrioritizedIk {
   const Eigen::VectorXd& delta_q() const { return dq_; }   // configuration step (v coordinates)
   const Eigen::VectorXd& qd() const { return qd_; }        // joint rates (v)
   const Eigen::VectorXd& qdd() const { return qdd_; }      // accelerations (v)
-  const Eigen::MatrixXd& null_space() const { return N_; } // after the last task
+  const Eigen::MatrixXd& null_space() const;                // after the last task (formed when asked)
 
   // One positive weight per v coordinate (all 1 at construction). Throws InputError for
   // a size other than nv or a weight that is not positive and finite. Not for a tick.
@@ -58,14 +58,20 @@ class PrioritizedIk {
  private:
   void start(const Eigen::Ref<const Eigen::MatrixXd>& J_c, const Eigen::Ref<const Eigen::VectorXd>& Jc_dot_v);
   void add_task(const ModelData& data, const Task& task, int i);
+  void project(const Eigen::MatrixXd& J, Eigen::MatrixXd& J_pre_t) const;
+  void shrink(const Eigen::MatrixXd& Jbar, const Eigen::MatrixXd& J_pre_t) const;
 
   int nv_;
   Eigen::VectorXd sqrt_w_;  // J⁺ is the A-weighted inverse with A = W = diag(sqrt_w_)² (I by default)
   std::unique_ptr<DynamicallyConsistentInverse> contact_pinv_;
   std::vector<std::unique_ptr<DynamicallyConsistentInverse>> pinv_;       // per task
   std::vector<Eigen::MatrixXd> J_pre_;                                      // per task
+  std::vector<Eigen::MatrixXd> J_pre_t_;                                    // per task, transposed
   std::vector<Eigen::VectorXd> residual_;                                   // per task
-  Eigen::MatrixXd N_;
+  Eigen::MatrixXd Jc_t_;                   // J_cᵀ
+  mutable Eigen::MatrixXd Nt_;             // Nᵀ: N's rows as contiguous columns
+  mutable Eigen::MatrixXd N_;              // null_space()'s copy
+  mutable bool last_update_pending_ = false;  // Nt_ still lacks the last task's update
   Eigen::VectorXd dq_, qd_, qdd_;
 };
 
