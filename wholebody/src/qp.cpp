@@ -92,6 +92,9 @@ void QpSolver::set_warm_start(bool on) {
   previous_count_ = 0;
   J_start_.resize(on ? n_ : 0, on ? n_ : 0);  // sized here, so that solve() allocates nothing
   x_start_.resize(on ? n_ : 0);
+  Y_.resize(on ? n_ : 0, on ? n_ : 0);
+  S_.resize(on ? n_ : 0, on ? n_ : 0);
+  y0_.resize(on ? n_ : 0);
 }
 
 int QpSolver::active_inequalities() const { return q_ - std::min(q_, m_eq_); }
@@ -110,9 +113,17 @@ QpStatus QpSolver::solve(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen
   CinT_ = C_in.transpose();
   for (int i = 0; i < m_in_; ++i) norm_in_[i] = CinT_.col(i).norm();  // most_violated's scales, once a solve
   iterations_ = 0;
-  warm_used_ = false;
-  if (!start(G, a)) return QpStatus::NotPositiveDefinite;
+  warm_used_ = direct_ = false;
+  x_ = -a;
+  const bool diagonal = is_diagonal(G);
+  if (!(diagonal ? start_diagonal(G) : factor(G))) return QpStatus::NotPositiveDefinite;
   const bool warm = warm_ && previous_count_ > 0;
+  if (warm && !diagonal && solve_on_previous(a, b_eq, b_in)) {
+    finish(G, a);
+    remember_active_set(QpStatus::Optimal);
+    return QpStatus::Optimal;
+  }
+  start(a, diagonal);
   if (warm) {
     J_start_ = J_;
     x_start_ = x_;
@@ -172,13 +183,10 @@ void QpSolver::restart() {
   q_ = 0;
 }
 
-// The unconstrained minimum x = −G⁻¹ a, J = L⁻ᵀ, an empty working set.
-bool QpSolver::start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a) {
-  x_ = -a;
-  if (is_diagonal(G)) {
-    if (!start_diagonal(G)) return false;
-  } else {
-    if (!factor(G)) return false;
+// The unconstrained minimum x = −G⁻¹ a, J = L⁻ᵀ, an empty working set; G factored by
+// factor() (start_diagonal() has done both for a diagonal G).
+void QpSolver::start(const Eigen::Ref<const Eigen::VectorXd>& a, bool diagonal) {
+  if (!diagonal) {
     invert_upper_factor();
     d_.noalias() = J_.transpose() * a;  // x = −G⁻¹ a = −J Jᵀ a
     x_.noalias() = -J_ * d_;
@@ -187,7 +195,86 @@ bool QpSolver::start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Re
   u_.setZero();
   is_active_.setConstant(false);
   q_ = 0;
+}
+
+// The warm start's short cut: the optimality conditions on the equalities and the last
+// solve's active inequalities A, solved directly. With G = UᵀU, Y = U⁻ᵀ C_Aᵀ and
+// y₀ = −U⁻ᵀ a: x = U⁻¹ (y₀ + Y u), where (YᵀY) u = b_A − Yᵀ y₀ (YᵀY = C_A G⁻¹ C_Aᵀ; the
+// constraints in A then hold with equality and G x + a = C_Aᵀ u). Taken only when that
+// is the minimiser: the normals independent by the dual method's own test (each one's
+// part outside the others' span, squared, above kDependent of its ‖U⁻ᵀ n‖²: the
+// Cholesky pivots of YᵀY), every inequality multiplier ≥ 0 and no other inequality
+// violated beyond add_inequalities' tolerance. The method's J = U⁻¹ Q is then never
+// formed, nor the constraints added one at a time. False: nothing of the solver's state
+// but x has changed, and solve() goes on as without it.
+bool QpSolver::solve_on_previous(const Eigen::Ref<const Eigen::VectorXd>& a, const Eigen::Ref<const Eigen::VectorXd>& b_eq,
+                                 const Eigen::Ref<const Eigen::VectorXd>& b_in) {
+  const int q = m_eq_ + previous_count_;
+  if (q > n_) return false;
+  for (int k = 0; k < q; ++k) {
+    working_[k] = k < m_eq_ ? k : m_eq_ + previous_[k - m_eq_];
+    Y_.col(k) = normal(working_[k]);
+    solve_upper_transposed(Y_.col(k));
+  }
+  y0_ = -a;
+  solve_upper_transposed(y0_);
+  // YᵀY = L Lᵀ in S_ (lower), and the right-hand side b_A − Yᵀ y₀ in u_.
+  for (int j = 0; j < q; ++j) {
+    const int i = working_[j];
+    u_[j] = (i < m_eq_ ? b_eq[i] : b_in[i - m_eq_]) - Y_.col(j).dot(y0_);
+    for (int k = j; k < q; ++k) S_(k, j) = Y_.col(k).dot(Y_.col(j));
+  }
+  // L column by column; a pivot at or below kDependent of its ‖U⁻ᵀ n‖² is a dependent normal.
+  for (int j = 0; j < q; ++j) {
+    double pivot = S_(j, j);
+    for (int k = 0; k < j; ++k) pivot -= S_(j, k) * S_(j, k);
+    if (!(pivot > kDependent * S_(j, j))) return false;
+    S_(j, j) = std::sqrt(pivot);
+    const double inv = 1.0 / S_(j, j);
+    for (int i = j + 1; i < q; ++i) {
+      double v = S_(i, j);
+      for (int k = 0; k < j; ++k) v -= S_(i, k) * S_(j, k);
+      S_(i, j) = v * inv;
+    }
+  }
+  for (int i = 0; i < q; ++i) {  // L w = rhs, then Lᵀ u = w
+    for (int k = 0; k < i; ++k) u_[i] -= S_(i, k) * u_[k];
+    u_[i] /= S_(i, i);
+  }
+  for (int i = q - 1; i >= 0; --i) {
+    for (int k = i + 1; k < q; ++k) u_[i] -= S_(k, i) * u_[k];
+    u_[i] /= S_(i, i);
+  }
+  for (int k = m_eq_; k < q; ++k)
+    if (!(u_[k] >= 0.0)) return false;
+  x_ = y0_;
+  x_.noalias() += Y_.leftCols(q) * u_.head(q);
+  solve_upper(x_);
+  is_active_.setConstant(false);
+  for (int k = m_eq_; k < q; ++k) is_active_[working_[k] - m_eq_] = true;
+  q_ = q;
+  double slack = 0;
+  if (!x_.allFinite() || most_violated(b_in, slack) >= 0) {
+    q_ = 0;
+    return false;
+  }
+  u_.tail(n_ - q).setZero();
+  iterations_ = previous_count_;
+  warm_used_ = direct_ = true;
   return true;
+}
+
+// Uᵀ y = v in place (forward substitution; U's columns are Uᵀ's rows).
+void QpSolver::solve_upper_transposed(Eigen::Ref<Eigen::VectorXd> v) const {
+  for (int i = 0; i < n_; ++i) v[i] = (v[i] - U_.col(i).head(i).dot(v.head(i))) * inv_diag_[i];
+}
+
+// U x = v in place (back substitution, a contiguous column of U per step).
+void QpSolver::solve_upper(Eigen::Ref<Eigen::VectorXd> v) const {
+  for (int k = n_ - 1; k >= 0; --k) {
+    v[k] *= inv_diag_[k];
+    v.head(k) -= v[k] * U_.col(k).head(k);
+  }
 }
 
 // G = Uᵀ U with U upper triangular (the Cholesky factor), column by column: each entry
@@ -351,7 +438,7 @@ bool QpSolver::add_to_working_set(int k) {
   auto d2 = d_.tail(m);
   double tau = 0.0, beta = 0.0;
   d2.makeHouseholderInPlace(tau, beta);
-  J_.rightCols(m).applyHouseholderOnTheRight(d2.tail(m - 1), tau, house_.data());
+  reflect_columns(q_, tau);
   d2[0] = beta;
   d2.tail(m - 1).setZero();
   if (!(d_[q_] * d_[q_] > kDependent * d_.squaredNorm())) return false;
@@ -359,6 +446,31 @@ bool QpSolver::add_to_working_set(int k) {
   working_[q_] = k;
   ++q_;
   return true;
+}
+
+// J's columns q.. times the reflection H = I − τ h hᵀ, h = [1; d_ below q+1] (the
+// essential part makeHouseholderInPlace left there): w = J_q h, then J_q −= τ w hᵀ,
+// column by contiguous column. Written out: Eigen's applyHouseholderOnTheRight does the
+// same through a general matrix-vector product and a rank-one update, whose set-up
+// outweighs the arithmetic at these sizes (3.7 k instructions an added constraint
+// against about 1 k here, callgrind, issue 29's tick).
+void QpSolver::reflect_columns(int q, double tau) {
+  const int m = n_ - q;
+  const Eigen::Index n = J_.rows();
+  double* w = house_.data();
+  const double* h = d_.data() + q;  // h[0] is taken as 1
+  const double* c0 = &J_(0, q);
+  for (Eigen::Index r = 0; r < n; ++r) w[r] = c0[r];
+  for (int j = 1; j < m; ++j) {
+    const double e = h[j];
+    const double* c = &J_(0, q + j);
+    for (Eigen::Index r = 0; r < n; ++r) w[r] += e * c[r];
+  }
+  for (int j = 0; j < m; ++j) {
+    const double e = tau * (j == 0 ? 1.0 : h[j]);
+    double* c = &J_(0, q + j);
+    for (Eigen::Index r = 0; r < n; ++r) c[r] -= e * w[r];
+  }
 }
 
 // Removes position l: R loses column l, and the Hessenberg part left behind is made

@@ -50,14 +50,23 @@ class QpSolver {
   // order, as the equalities are; when their multipliers come out ≥ 0 that is a state
   // of the dual method (the minimum on those constraints, dual feasible) and the method
   // goes on from it, adding what is still violated; otherwise it starts again from the
-  // unconstrained minimum. The problem being strictly convex, the answer is the same
+  // unconstrained minimum. When those constraints are exactly the active ones, the
+  // minimum on them is found directly and checked (solved_directly()). The problem being strictly convex, the answer is the same
   // minimiser either way (to rounding). Off by default.
   void set_warm_start(bool on);
   // Whether the last solve went on from the previous active set (false: started cold).
   bool warm_started() const { return warm_used_; }
+  // Whether it did so by the short cut: the optimality conditions on the previous active
+  // set solved directly, which certified the minimiser (nothing left to add or drop), so
+  // the dual method's own factorisation was never formed.
+  bool solved_directly() const { return direct_; }
 
  private:
-  bool start(const Eigen::Ref<const Eigen::MatrixXd>& G, const Eigen::Ref<const Eigen::VectorXd>& a);
+  void start(const Eigen::Ref<const Eigen::VectorXd>& a, bool diagonal);
+  bool solve_on_previous(const Eigen::Ref<const Eigen::VectorXd>& a, const Eigen::Ref<const Eigen::VectorXd>& b_eq,
+                         const Eigen::Ref<const Eigen::VectorXd>& b_in);  // warm start's short cut
+  void solve_upper_transposed(Eigen::Ref<Eigen::VectorXd> v) const;  // Uᵀ y = v
+  void solve_upper(Eigen::Ref<Eigen::VectorXd> v) const;             // U x = v
   bool start_diagonal(const Eigen::Ref<const Eigen::MatrixXd>& G);  // G diagonal
   bool factor(const Eigen::Ref<const Eigen::MatrixXd>& G);  // G = Uᵀ U into U_
   void invert_upper_factor();  // J = U⁻¹
@@ -70,6 +79,7 @@ class QpSolver {
   // Working-set constraint k: k < m_eq the equality k, else the inequality k − m_eq.
   Eigen::Ref<const Eigen::VectorXd> normal(int k) const;
   void step_directions(const Eigen::Ref<const Eigen::VectorXd>& n);  // d, z, r for normal n
+  void reflect_columns(int q, double tau);  // J's columns q.. times the Householder reflection in d_
   double partial_step(int& position) const;  // the dual step limit over active inequalities
   bool add_to_working_set(int k);            // with d_ of its normal; false if dependent
   void drop_from_working_set(int position);
@@ -83,13 +93,15 @@ class QpSolver {
   Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
   Eigen::VectorXd norm_in_;           // ‖C_in row i‖ of this solve
   Eigen::VectorXd slack_in_;          // C_in x − b_in (most_violated)
-  Eigen::VectorXd house_;             // add_to_working_set's workspace (n)
+  Eigen::VectorXd house_;             // reflect_columns' workspace (n)
   Eigen::VectorXi working_;           // constraint index (as in normal()) per position
   Eigen::VectorXi previous_;          // the last Optimal solve's active inequalities, in order
   int previous_count_ = 0;
-  bool warm_ = false, warm_used_ = false;
+  bool warm_ = false, warm_used_ = false, direct_ = false;
   Eigen::MatrixXd J_start_;           // J and x after start(), kept for a restart
   Eigen::VectorXd x_start_;
+  Eigen::MatrixXd Y_, S_;             // solve_on_previous: U⁻ᵀ C_Aᵀ and the factor of YᵀY
+  Eigen::VectorXd y0_;                // solve_on_previous: −U⁻ᵀ a
   Eigen::Matrix<bool, Eigen::Dynamic, 1> is_active_;  // per inequality
   double f_ = 0;
   int q_ = 0;                         // working-set size
