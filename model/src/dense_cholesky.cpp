@@ -29,7 +29,7 @@ inline void update1(double* __restrict y, const double* __restrict x, double l, 
 }  // namespace
 
 // Column j of L: v = A(j:n, j) - sum over k < j of L(j, k) L(j:n, k), then v / sqrt(v_j).
-DMBD_VECTOR_CLONES bool cholesky_in_place(Eigen::MatrixXd& A) {
+DMBD_VECTOR_CLONES bool cholesky_in_place(Eigen::MatrixXd& A, Eigen::VectorXd& inv_diag) {
   const Eigen::Index n = A.rows();
   double* a = A.data();
   for (Eigen::Index j = 0; j < n; ++j) {
@@ -43,28 +43,42 @@ DMBD_VECTOR_CLONES bool cholesky_in_place(Eigen::MatrixXd& A) {
     for (; k < j; ++k) update1(cj + j, a + k * n + j, a[k * n + j], m);
     const double d = cj[j];
     if (!(d > 0.0) || !std::isfinite(d)) return false;
-    const double s = std::sqrt(d);
+    const double s = std::sqrt(d), r = 1.0 / s;
     cj[j] = s;
-    for (Eigen::Index i = j + 1; i < n; ++i) cj[i] /= s;
+    inv_diag[j] = r;
+    for (Eigen::Index i = j + 1; i < n; ++i) cj[i] *= r;
   }
   return true;
 }
 
-DMBD_VECTOR_CLONES void cholesky_solve_in_place(const Eigen::MatrixXd& L, Eigen::Ref<Eigen::VectorXd> b) {
+// The solves multiply by the diagonal's reciprocals (no division on the chain from one
+// unknown to the next), and Lᵀ x = y takes its dot products in four partial sums (a
+// column of L against the unknowns below: one long dependent chain of multiply-adds
+// otherwise, latency-bound; perf had the solve at half the factorisation's time).
+DMBD_VECTOR_CLONES void cholesky_solve_in_place(const Eigen::MatrixXd& L, const Eigen::VectorXd& inv_diag,
+                                                Eigen::Ref<Eigen::VectorXd> b) {
   const Eigen::Index n = L.rows();
   const double* l = L.data();
+  const double* r = inv_diag.data();
   double* x = b.data();
   for (Eigen::Index j = 0; j < n; ++j) {  // L y = b, a column at a time
     const double* cj = l + j * n;
-    x[j] /= cj[j];
-    const double yj = x[j];
+    const double yj = x[j] * r[j];
+    x[j] = yj;
     for (Eigen::Index i = j + 1; i < n; ++i) x[i] -= yj * cj[i];
   }
   for (Eigen::Index j = n - 1; j >= 0; --j) {  // Lᵀ x = y: row j of Lᵀ is column j of L
     const double* cj = l + j * n;
-    double s = x[j];
-    for (Eigen::Index i = j + 1; i < n; ++i) s -= cj[i] * x[i];
-    x[j] = s / cj[j];
+    double s0 = x[j], s1 = 0.0, s2 = 0.0, s3 = 0.0;
+    Eigen::Index i = j + 1;
+    for (; i + 4 <= n; i += 4) {
+      s0 -= cj[i] * x[i];
+      s1 -= cj[i + 1] * x[i + 1];
+      s2 -= cj[i + 2] * x[i + 2];
+      s3 -= cj[i + 3] * x[i + 3];
+    }
+    for (; i < n; ++i) s0 -= cj[i] * x[i];
+    x[j] = ((s0 + s1) + (s2 + s3)) * r[j];
   }
 }
 

@@ -10,12 +10,13 @@
 
 namespace dmbd::model::detail {
 
-// Overwrites A's lower triangle (diagonal included) with L; the upper triangle is
-// read as A's (not referenced). False when a pivot is not positive and finite (A not
-// positive definite to rounding), as Eigen's LLT fails.
-bool cholesky_in_place(Eigen::MatrixXd& A);
+// Overwrites A's lower triangle (diagonal included) with L and inv_diag (sized by the
+// caller) with 1 / L's diagonal; the upper triangle is read as A's (not referenced).
+// False when a pivot is not positive and finite (A not positive definite to rounding),
+// as Eigen's LLT fails.
+bool cholesky_in_place(Eigen::MatrixXd& A, Eigen::VectorXd& inv_diag);
 
-// b := (L Lᵀ)⁻¹ b with L from cholesky_in_place.
-void cholesky_solve_in_place(const Eigen::MatrixXd& L, Eigen::Ref<Eigen::VectorXd> b);
+// b := (L Lᵀ)⁻¹ b with L and inv_diag from cholesky_in_place.
+void cholesky_solve_in_place(const Eigen::MatrixXd& L, const Eigen::VectorXd& inv_diag, Eigen::Ref<Eigen::VectorXd> b);
 
 }  // namespace dmbd::model::detail

@@ -15,7 +15,7 @@ namespace dmbd::model::detail {
 
 namespace odeint = boost::numeric::odeint;
 
-LockedSolver::LockedSolver(int n) : A_(n, n) {}
+LockedSolver::LockedSolver(int n) : A_(n, n), inv_diag_(n) {}
 
 bool LockedSolver::solve(const Eigen::MatrixXd& A, const std::vector<char>& locked, Eigen::Ref<Eigen::VectorXd> b) {
   A_ = A;
@@ -26,8 +26,8 @@ bool LockedSolver::solve(const Eigen::MatrixXd& A, const std::vector<char>& lock
     A_.col(k).setZero();
     A_(k, k) = 1.0;
   }
-  if (!cholesky_in_place(A_)) return false;
-  cholesky_solve_in_place(A_, b);
+  if (!cholesky_in_place(A_, inv_diag_)) return false;
+  cholesky_solve_in_place(A_, inv_diag_, b);
   return b.allFinite();
 }
 

@@ -31,6 +31,7 @@ class LockedSolver {
 
  private:
   Eigen::MatrixXd A_;  // the locked copy of A, then its Cholesky factor
+  Eigen::VectorXd inv_diag_;  // 1 / the factor's diagonal
 };
 
 class FixedStepper {
