@@ -16,12 +16,16 @@ double hertz_sinkage(double force_N, double radius_m, double stiffness_Pa) {
 
 SphereContact sphere_contact(const ContactParams& p, double radius_m, double penetration_m,
                              const Eigen::Vector3d& velocity_W, const Eigen::Vector2d& anchor_offset) {
+  return sphere_contact_hertz(p, hertz_constant(radius_m, p.stiffness_Pa), penetration_m, velocity_W, anchor_offset);
+}
+
+SphereContact sphere_contact_hertz(const ContactParams& p, double hz, double penetration_m,
+                                   const Eigen::Vector3d& velocity_W, const Eigen::Vector2d& anchor_offset) {
   SphereContact c;
   if (!(penetration_m > 0)) return c;
   c.touching = true;
   c.penetration_m = penetration_m;
   const double x = penetration_m, xdot = -velocity_W.z();
-  const double hz = hertz_constant(radius_m, p.stiffness_Pa);
   const double elastic = hz * x * std::sqrt(x);
   const double damping = 1.0 + 1.5 * p.dissipation_s_per_m * xdot;
   c.potential_J = 0.4 * elastic * x;  // integral of c x^1.5 dx
@@ -70,9 +74,8 @@ void anchor_friction(const ContactParams& p, const Eigen::Vector2d& anchor_offse
   c.force_W.head<2>() = ft;
 }
 
-Eigen::Vector2d slide_anchor(const ContactParams& p, double normal_force_N, const Eigen::Vector2d& anchor_offset) {
+Eigen::Vector2d slide_anchor(const ContactParams& p, const Eigen::Vector2d& anchor_offset) {
   // The spring k_t |offset| = mu F_n |offset| / delta_s reaches the cone at |offset| = delta_s.
-  (void)normal_force_N;
   const double d = anchor_offset.norm();
   return d > p.stiction_displacement_m ? Eigen::Vector2d(anchor_offset * (p.stiction_displacement_m / d)) : anchor_offset;
 }

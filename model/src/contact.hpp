@@ -50,6 +50,10 @@ double hertz_sinkage(double force_N, double radius_m, double stiffness_Pa);
 // (x, y).
 SphereContact sphere_contact(const ContactParams& p, double radius_m, double penetration_m,
                              const Eigen::Vector3d& velocity_W, const Eigen::Vector2d& anchor_offset);
+// The same with the sphere's Hertz constant given (the plant computes it once a sphere:
+// a power, otherwise taken on every contact at every step).
+SphereContact sphere_contact_hertz(const ContactParams& p, double hertz_N_per_m15, double penetration_m,
+                                   const Eigen::Vector3d& velocity_W, const Eigen::Vector2d& anchor_offset);
 
 // The same for a point contact (linear normal law), ground frame.
 ContactForce point_contact(const ContactParams& p, double penetration_m, const Eigen::Vector3d& velocity_G,
@@ -61,7 +65,9 @@ void anchor_friction(const ContactParams& p, const Eigen::Vector2d& anchor_offse
                      ContactForce& c);
 
 // The anchor offset after the return map: unchanged while the spring force stays inside
-// the cone, else shortened along itself to k_t |offset| = mu F_n (|offset| = delta_s).
-Eigen::Vector2d slide_anchor(const ContactParams& p, double normal_force_N, const Eigen::Vector2d& anchor_offset);
+// the cone, else shortened along itself to k_t |offset| = mu F_n, that is |offset| =
+// delta_s whatever F_n (k_t = mu F_n / delta_s): the map needs no force, only where the
+// contact touches.
+Eigen::Vector2d slide_anchor(const ContactParams& p, const Eigen::Vector2d& anchor_offset);
 
 }  // namespace dmbd::model::detail

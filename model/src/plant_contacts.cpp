@@ -15,14 +15,15 @@ namespace {
 
 // The return map of a sphere's or a point's anchor after a step, the contact point at
 // tangent coordinates p_t: set where it first touches, dragged so that |p - a| <= delta_s.
-void seat_anchor(const ContactParams& cp, const ContactForce& c, const Eigen::Vector2d& p_t, SphereAnchor& an) {
-  if (!c.touching) {
+// Geometry only (slide_anchor needs no force): the contact law is not evaluated here.
+void seat_anchor(const ContactParams& cp, bool touching, const Eigen::Vector2d& p_t, SphereAnchor& an) {
+  if (!touching) {
     an.active = false;
   } else if (!an.active) {
     an.active = true;
     an.anchor = p_t;
   } else {
-    an.anchor = p_t - slide_anchor(cp, c.normal_force_N, p_t - an.anchor);
+    an.anchor = p_t - slide_anchor(cp, p_t - an.anchor);
   }
 }
 
@@ -82,7 +83,7 @@ void PlantDynamics::add_sphere_contacts(double h) {
     const Eigen::Vector3d v = kernel_.point_velocity(sp.body, p);
     const Eigen::Vector2d offset =
         anchors[i].active ? Eigen::Vector2d(ground_.tangent(p) - anchors[i].anchor) : Eigen::Vector2d::Zero();
-    SphereContact sc = sphere_contact(opt_.contact_params, sp.radius_m, pen, ground_.to_ground(v), offset);
+    SphereContact sc = sphere_contact_hertz(opt_.contact_params, sphere_hertz_[i], pen, ground_.to_ground(v), offset);
     ground_.to_world(sc);
     t.add(p, sc.force_W, h * sc.D + h * h * sc.K, sc.K * v);
   }
@@ -142,8 +143,9 @@ SphereContact PlantDynamics::sphere_contact_now(int sphere, Eigen::Vector3d* p_W
   if (p_W) *p_W = p;
   const SphereAnchor& an = anchors[static_cast<std::size_t>(sphere)];
   const Eigen::Vector2d offset = an.active ? Eigen::Vector2d(ground_.tangent(p) - an.anchor) : Eigen::Vector2d::Zero();
-  SphereContact sc = sphere_contact(opt_.contact_params, sp.radius_m, sp.radius_m - ground_.height(center),
-                                    ground_.to_ground(kernel_.point_velocity(sp.body, p)), offset);
+  const double pen = sp.radius_m - ground_.height(center);
+  SphereContact sc = sphere_contact_hertz(opt_.contact_params, sphere_hertz_[static_cast<std::size_t>(sphere)], pen,
+                                          ground_.to_ground(kernel_.point_velocity(sp.body, p)), offset);
   ground_.to_world(sc);
   return sc;
 }
@@ -188,15 +190,16 @@ RimContact PlantDynamics::rim_contact_now(int index) const {
 
 void PlantDynamics::update_anchors() {
   const ContactParams& cp = opt_.contact_params;
-  for (std::size_t i = 0; i < contact_.spheres.size(); ++i) {
-    Eigen::Vector3d p;
-    const SphereContact sc = sphere_contact_now(static_cast<int>(i), &p);
-    seat_anchor(cp, sc, ground_.tangent(p), anchors[i]);
+  for (std::size_t i = 0; i < contact_.spheres.size(); ++i) {  // touching: as sphere_contact decides
+    const ContactSphere& sp = contact_.spheres[i];
+    const Eigen::Vector3d center = world_point(sp.body, sp.center_B);
+    const double pen = sp.radius_m - ground_.height(center);
+    seat_anchor(cp, pen > 0, ground_.tangent(center - sp.radius_m * ground_.n()), anchors[i]);
   }
-  for (std::size_t i = 0; i < contact_.points.size(); ++i) {
-    Eigen::Vector3d p;
-    const ContactForce c = point_contact_now(static_cast<int>(i), &p);
-    seat_anchor(cp, c, ground_.tangent(p), point_anchors[i]);
+  for (std::size_t i = 0; i < contact_.points.size(); ++i) {  // as point_contact decides
+    const ContactPoint& pt = contact_.points[i];
+    const Eigen::Vector3d p = world_point(pt.body, pt.p_B);
+    seat_anchor(cp, -ground_.height(p) > 0, ground_.tangent(p), point_anchors[i]);
   }
   // A rim's deflection is carried over to the new centre of pressure: the material point
   // moved by its slip since the last step, so rolling adds nothing to it.
@@ -208,7 +211,7 @@ void PlantDynamics::update_anchors() {
       continue;
     }
     const Eigen::Vector2d deflection =
-        fr.active ? slide_anchor(cp, rc.normal_force_N, ground_.tangent(rc.material_W) - fr.anchor) : Eigen::Vector2d::Zero();
+        fr.active ? slide_anchor(cp, ground_.tangent(rc.material_W) - fr.anchor) : Eigen::Vector2d::Zero();
     const int body = contact_.rims[i].body;
     fr.active = true;
     fr.anchor = ground_.tangent(rc.ring.cop_W) - deflection;

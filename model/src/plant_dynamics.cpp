@@ -115,6 +115,7 @@ PlantDynamics::PlantDynamics(const RobotDescription& r, const PlantOptions& o)
   if (o.contact) {
     check_contact_params(o.contact_params);
     contact_ = detail::contact_elements(r, kernel_);
+    for (const ContactSphere& sp : contact_.spheres) sphere_hertz_.push_back(hertz_constant(sp.radius_m, o.contact_params.stiffness_Pa));
   }
   anchors.assign(contact_.spheres.size(), SphereAnchor{});
   point_anchors.assign(contact_.points.size(), SphereAnchor{});

@@ -194,6 +194,7 @@ class PlantDynamics {
   std::vector<HousingMass> housings_;
   GroundFrame ground_;
   ContactElements contact_;
+  std::vector<double> sphere_hertz_;       // per contact sphere: its Hertz constant (N/m^1.5)
   std::vector<JointStop> stops_;
   double housing_mass_ = 0;
   int ntq_ = 0, ntv_ = 0, na_ = 0, ns_ = 0;

@@ -184,9 +184,9 @@ TEST(ContactFriction, SlideAnchorReturnMap) {
   const ContactParams cp;
   const double x = 1.5e-3, Fn = closed_form_elastic(cp, x);
   const Eigen::Vector2d inside(6e-4, 7e-4);  // 0.92 delta_s
-  EXPECT_EQ(slide_anchor(cp, Fn, inside), inside);
+  EXPECT_EQ(slide_anchor(cp, inside), inside);
   const Eigen::Vector2d outside(-3e-3, 4e-3);  // 5 delta_s
-  const Eigen::Vector2d mapped = slide_anchor(cp, Fn, outside);
+  const Eigen::Vector2d mapped = slide_anchor(cp, outside);
   EXPECT_LT(rel(mapped.norm(), cp.stiction_displacement_m), 1e-14);
   EXPECT_LT(std::abs(mapped.x() * outside.y() - mapped.y() * outside.x()), 1e-20);  // parallel (cross ~ eps |.|^2)
   EXPECT_GT(mapped.dot(outside), 0.0);                                                 // and the same way
