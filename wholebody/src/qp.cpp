@@ -8,6 +8,8 @@
 // set's multipliers per unit of the new one). zᵀ n = ‖d₂‖² ≥ 0 is the curvature along z.
 #include "dmbd/wholebody/qp.hpp"
 
+#include "dmbd/base/vector_clones.hpp"
+
 #include <Eigen/Householder>
 #include <Eigen/Jacobi>
 
@@ -69,6 +71,7 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       CeqT_(n, m_eq),
       CinT_(n, m_in),
       U_(n, n),
+      L_(Eigen::MatrixXd::Zero(n, n)),
       inv_diag_(n),
       J_(n, n),
       R_(n, n),
@@ -277,21 +280,43 @@ void QpSolver::solve_upper(Eigen::Ref<Eigen::VectorXd> v) const {
   }
 }
 
-// G = Uᵀ U with U upper triangular (the Cholesky factor), column by column: each entry
-// a dot product of two contiguous column segments. Written out because Eigen's LLT of
-// these few rows (16 for the whole-body QP) spends most of its instructions dispatching
-// a matrix-vector product per column (7.6 k against about 2.5 k here, callgrind, issue
-// 29's tick). False unless G is positive definite (a pivot ≤ 0 or not a number).
-bool QpSolver::factor(const Eigen::Ref<const Eigen::MatrixXd>& G) {
-  for (int j = 0; j < n_; ++j) {
-    for (int i = 0; i < j; ++i) U_(i, j) = (G(i, j) - U_.col(i).head(i).dot(U_.col(j).head(i))) * inv_diag_[i];
-    const double pivot = G(j, j) - U_.col(j).head(j).squaredNorm();
+// L = Uᵀ, column by column (left-looking): column j of L is G's below the diagonal less
+// L(j, k) times column k for each k < j, axpys over contiguous columns that the compiler
+// vectorises (an AVX2 clone as well), each entry's terms in k's order. False unless
+// every pivot is positive (a pivot ≤ 0 or not a number: not positive definite).
+namespace detail {
+DMBD_VECTOR_CLONES bool lower_cholesky(const double* g, Eigen::Index ldg, double* l, double* inv_diag, Eigen::Index n) {
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double* cj = l + j * n;
+    const double* gj = g + j * ldg;
+    for (Eigen::Index i = j; i < n; ++i) cj[i] = gj[i];
+    for (Eigen::Index k = 0; k < j; ++k) {
+      const double* ck = l + k * n;
+      const double ljk = ck[j];
+      for (Eigen::Index i = j; i < n; ++i) cj[i] -= ljk * ck[i];
+    }
+    const double pivot = cj[j];
     if (!(pivot > 0.0)) return false;
-    U_(j, j) = std::sqrt(pivot);
-    inv_diag_[j] = 1.0 / U_(j, j);  // multiplied by, here and in invert_upper_factor: a
-                                    // division's latency on every entry's chain was 8 %
-                                    // of the tick's time (perf)
+    const double s = std::sqrt(pivot), r = 1.0 / s;
+    cj[j] = s;
+    inv_diag[j] = r;  // multiplied by, here and in the solves: a division's latency on every
+                      // entry's chain was 8 % of the tick's time (perf)
+    for (Eigen::Index i = j + 1; i < n; ++i) cj[i] *= r;
   }
+  return true;
+}
+}  // namespace detail
+
+// G = Uᵀ U with U upper triangular (the Cholesky factor), from L = Uᵀ (lower_cholesky:
+// G's lower triangle; G is symmetric) and a transposition for the solver's column-wise
+// uses of U. Written out because Eigen's LLT of these few rows (16 for the whole-body
+// QP) spends most of its instructions dispatching a matrix-vector product per column
+// (7.6 k instructions against about 2.5 k for dot products of U's columns, and the
+// dot products' dependent chains against these axpys: perf had them at 9 % of issue
+// 29's tick).
+bool QpSolver::factor(const Eigen::Ref<const Eigen::MatrixXd>& G) {
+  if (!detail::lower_cholesky(G.data(), G.outerStride(), L_.data(), inv_diag_.data(), n_)) return false;
+  U_ = L_.transpose();  // L_'s strict upper triangle stays 0
   return true;
 }
 

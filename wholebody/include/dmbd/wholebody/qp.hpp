@@ -88,6 +88,7 @@ class QpSolver {
   int n_, m_eq_, m_in_;
   Eigen::MatrixXd CeqT_, CinT_;       // constraint normals as columns
   Eigen::MatrixXd U_;                 // G's Cholesky factor (upper)
+  Eigen::MatrixXd L_;                 // Uᵀ, as factored
   Eigen::VectorXd inv_diag_;          // 1 / U's diagonal
   Eigen::MatrixXd J_, R_;
   Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
