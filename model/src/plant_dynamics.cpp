@@ -222,7 +222,17 @@ void PlantDynamics::add_housings() {
     idx_.assign(mob.begin(), mob.end());
     idx_.push_back(spring_v(hm.actuator));
     const Eigen::Vector3d a = kernel_.point_bias_acceleration(hm.body, p) + 2 * sd * kernel_.angular_velocity(hm.body).cross(u);
-    add_point_term(idx_, m + 1, hm.mass_kg * (g - a), hm.mass_kg * Eigen::Matrix3d::Identity());
+    add_point_mass_term(idx_, m + 1, hm.mass_kg * (g - a), hm.mass_kg);
+  }
+}
+
+// add_point_term with W = mass 1: A += mass Gᵀ G (the lower triangle), no W G product.
+void PlantDynamics::add_point_mass_term(const std::vector<int>& idx, int cols, const Eigen::Vector3d& f, double mass) {
+  const auto G = G_.leftCols(cols);
+  for (int a = 0; a < cols; ++a) {
+    const auto ia = static_cast<Eigen::Index>(idx[static_cast<std::size_t>(a)]);
+    r_[ia] += G.col(a).dot(f);
+    for (int b = 0; b <= a; ++b) A_(ia, idx[static_cast<std::size_t>(b)]) += mass * G.col(a).dot(G.col(b));
   }
 }
 

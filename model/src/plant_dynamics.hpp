@@ -169,6 +169,7 @@ class PlantDynamics {
   // Jacobian has the columns `idx` (G is 3 x idx.size()).
   void add_point_term(const std::vector<int>& idx, int cols, const Eigen::Vector3d& f, const Eigen::Matrix3d& W,
                       const Eigen::Matrix3d* K = nullptr, const Eigen::Vector3d* Gv = nullptr);
+  void add_point_mass_term(const std::vector<int>& idx, int cols, const Eigen::Vector3d& f, double mass);
   // Point terms of one body gathered at a point o of it, as wrenches [moment about o;
   // force] and a 6 x 6 W6 on the spatial velocity [omega; v_o]: a point term at p (f, W,
   // k) adds B^T f, B^T W B, B^T k with B = [-[p - o]x, I] (v_p = B [omega; v_o]).

@@ -49,8 +49,11 @@ double Potentiometer::read(double position, double dt_s) {
     first_ = false;
     return y_;
   }
-  const double a = -std::expm1(-2.0 * kPi * p_.cutoff_hz * std::max(dt_s, 0.0));
-  y_ += a * (v - y_);
+  if (dt_s != filter_dt_) {
+    filter_dt_ = dt_s;
+    filter_a_ = -std::expm1(-2.0 * kPi * p_.cutoff_hz * std::max(dt_s, 0.0));
+  }
+  y_ += filter_a_ * (v - y_);
   return y_;
 }
 

@@ -53,6 +53,7 @@ class Potentiometer {
   std::normal_distribution<double> n_{0.0, 1.0};
   double y_ = 0;
   bool first_ = true;
+  double filter_dt_ = -1, filter_a_ = 0;  // the filter's gain for the last dt (the same every tick)
 };
 
 // Torso IMU: gyro and accelerometer with constant bias, white noise and a bias random
