@@ -297,7 +297,7 @@ struct Simulation::Impl {
       bus[static_cast<std::size_t>(io.force)] = force;
       bus[static_cast<std::size_t>(io.force_true)] = f[k];
       const double qj = io.joint >= 0 ? q[io.joint] : 0.0;
-      if (first) io.q_enc_last = qj;  // Newton's first guess only (the firmware starts from its last reading)
+      if (first) io.q_enc_last = qj;  // the first reading's branch (the firmware's lookup then follows its last reading)
       io.q_enc_last = a.angle_for_travel(th / a.N_m_rad_per_m - x, io.q_enc_last);
       bus[static_cast<std::size_t>(io.q_enc)] = io.q_enc_last;
       if (io.q_pot >= 0) bus[static_cast<std::size_t>(io.q_pot)] = potentiometer(io, qj, first, dt);
