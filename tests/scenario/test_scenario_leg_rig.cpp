@@ -35,7 +35,6 @@ using dmbd::scenario::ScenarioRun;
 const std::string kScenario = std::string(DMBD_SOURCE_DIR) + "/examples/scenarios/leg_rig.yaml";
 constexpr double kDrop_m = 0.02;                      // the sole's height at t = 0 (the scenario's initial rail)
 constexpr double kStandFrom_s = 1.0, kSquat_s = 2.0;  // the last second of standing: [1, 2) s
-constexpr int kFoot = 3;                              // contact.3: the foot's sole (links in order: body, thigh, shank, foot)
 
 // The shipped scenario run once for every test here (its controllers as generated code,
 // as the file says), with its report.
