@@ -1,6 +1,6 @@
 #include "plant_steppers.hpp"
 
-#include "dense_cholesky.hpp"
+#include "dmbd/base/dense_cholesky.hpp"
 
 #include "dmbd/model/error.hpp"
 
@@ -26,8 +26,8 @@ bool LockedSolver::solve(const Eigen::MatrixXd& A, const std::vector<char>& lock
     A_.col(k).setZero();
     A_(k, k) = 1.0;
   }
-  if (!cholesky_in_place(A_, inv_diag_)) return false;
-  cholesky_solve_in_place(A_, inv_diag_, b);
+  if (!base::cholesky_in_place(A_.data(), A_.outerStride(), A_.rows(), inv_diag_.data())) return false;
+  base::cholesky_solve_in_place(A_.data(), A_.outerStride(), A_.rows(), inv_diag_.data(), b.data());
   return b.allFinite();
 }
 

@@ -8,7 +8,7 @@
 // set's multipliers per unit of the new one). zᵀ n = ‖d₂‖² ≥ 0 is the curvature along z.
 #include "dmbd/wholebody/qp.hpp"
 
-#include "dmbd/base/vector_clones.hpp"
+#include "dmbd/base/dense_cholesky.hpp"
 
 #include <Eigen/Householder>
 #include <Eigen/Jacobi>
@@ -71,7 +71,7 @@ QpSolver::QpSolver(int n, int m_eq, int m_in)
       CeqT_(n, m_eq),
       CinT_(n, m_in),
       U_(n, n),
-      L_(Eigen::MatrixXd::Zero(n, n)),
+      L_(n, n),
       inv_diag_(n),
       J_(n, n),
       R_(n, n),
@@ -280,43 +280,17 @@ void QpSolver::solve_upper(Eigen::Ref<Eigen::VectorXd> v) const {
   }
 }
 
-// L = Uᵀ, column by column (left-looking): column j of L is G's below the diagonal less
-// L(j, k) times column k for each k < j, axpys over contiguous columns that the compiler
-// vectorises (an AVX2 clone as well), each entry's terms in k's order. False unless
-// every pivot is positive (a pivot ≤ 0 or not a number: not positive definite).
-namespace detail {
-DMBD_VECTOR_CLONES bool lower_cholesky(const double* g, Eigen::Index ldg, double* l, double* inv_diag, Eigen::Index n) {
-  for (Eigen::Index j = 0; j < n; ++j) {
-    double* cj = l + j * n;
-    const double* gj = g + j * ldg;
-    for (Eigen::Index i = j; i < n; ++i) cj[i] = gj[i];
-    for (Eigen::Index k = 0; k < j; ++k) {
-      const double* ck = l + k * n;
-      const double ljk = ck[j];
-      for (Eigen::Index i = j; i < n; ++i) cj[i] -= ljk * ck[i];
-    }
-    const double pivot = cj[j];
-    if (!(pivot > 0.0)) return false;
-    const double s = std::sqrt(pivot), r = 1.0 / s;
-    cj[j] = s;
-    inv_diag[j] = r;  // multiplied by, here and in the solves: a division's latency on every
-                      // entry's chain was 8 % of the tick's time (perf)
-    for (Eigen::Index i = j + 1; i < n; ++i) cj[i] *= r;
-  }
-  return true;
-}
-}  // namespace detail
-
-// G = Uᵀ U with U upper triangular (the Cholesky factor), from L = Uᵀ (lower_cholesky:
-// G's lower triangle; G is symmetric) and a transposition for the solver's column-wise
-// uses of U. Written out because Eigen's LLT of these few rows (16 for the whole-body
-// QP) spends most of its instructions dispatching a matrix-vector product per column
-// (7.6 k instructions against about 2.5 k for dot products of U's columns, and the
-// dot products' dependent chains against these axpys: perf had them at 9 % of issue
-// 29's tick).
+// G = Uᵀ U with U upper triangular: L = Uᵀ by the left-looking factor over contiguous
+// columns of base/dense_cholesky.hpp (which also gives 1 / the diagonal: the solves
+// here multiply by it), then transposed for the solver's column-wise uses of U. Eigen's
+// LLT of these few rows (16 for the whole-body QP) spends most of its instructions
+// dispatching a matrix-vector product per column, and a factor by dot products of U's
+// columns waits on their dependent chains (9 % of issue 29's tick under perf). False
+// unless G is positive definite (a pivot ≤ 0 or not a number).
 bool QpSolver::factor(const Eigen::Ref<const Eigen::MatrixXd>& G) {
-  if (!detail::lower_cholesky(G.data(), G.outerStride(), L_.data(), inv_diag_.data(), n_)) return false;
-  U_ = L_.transpose();  // L_'s strict upper triangle stays 0
+  L_ = G;
+  if (!base::cholesky_in_place(L_.data(), L_.outerStride(), n_, inv_diag_.data())) return false;
+  U_.triangularView<Eigen::Upper>() = L_.transpose();  // only U's upper triangle is read
   return true;
 }
 

@@ -51,8 +51,9 @@ class QpSolver {
   // of the dual method (the minimum on those constraints, dual feasible) and the method
   // goes on from it, adding what is still violated; otherwise it starts again from the
   // unconstrained minimum. When those constraints are exactly the active ones, the
-  // minimum on them is found directly and checked (solved_directly()). The problem being strictly convex, the answer is the same
-  // minimiser either way (to rounding). Off by default.
+  // minimum on them is found directly and checked (solved_directly()). The problem
+  // being strictly convex, the answer is the same minimiser either way (to rounding).
+  // Off by default.
   void set_warm_start(bool on);
   // Whether the last solve went on from the previous active set (false: started cold).
   bool warm_started() const { return warm_used_; }
@@ -88,7 +89,7 @@ class QpSolver {
   int n_, m_eq_, m_in_;
   Eigen::MatrixXd CeqT_, CinT_;       // constraint normals as columns
   Eigen::MatrixXd U_;                 // G's Cholesky factor (upper)
-  Eigen::MatrixXd L_;                 // Uᵀ, as factored
+  Eigen::MatrixXd L_;                 // Uᵀ, as factored (its strict upper triangle: G's)
   Eigen::VectorXd inv_diag_;          // 1 / U's diagonal
   Eigen::MatrixXd J_, R_;
   Eigen::VectorXd x_, d_, z_, r_, u_, lambda_eq_, mu_in_, Gx_;
