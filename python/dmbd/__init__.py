@@ -2,8 +2,9 @@
 
 Linear systems (tf, ss, TransferFunction, StateSpace; series, parallel, feedback; c2d),
 their analysis as NumPy arrays (poles, zeros, bode, freqresp, step, margins), block
-diagrams (load_diagram, Diagram.linearize), code generation (generate_code) and
-scenarios (run_scenario: logs as NumPy arrays, metrics as a dict). Mistakes raise
+diagrams (load_diagram, Diagram.linearize), code generation (generate_code),
+scenarios (run_scenario: logs as NumPy arrays, metrics as a dict) and robot models
+(load_robot: mass matrix, bias forces, Jacobians as in Pinocchio). Mistakes raise
 dmbd.InputError (a ValueError) or one of its kinds, with the library's message
 (file:line:column: ... where a file is involved).
 

@@ -11,6 +11,8 @@ void bind_lti(py::module_& m);       // lti.cpp: TransferFunction, StateSpace, i
 void bind_analysis(py::module_& m);  // analysis.cpp: poles, zeros, Bode, step, margins
 void bind_diagrams(py::module_& m);  // diagrams.cpp: load_diagram, Diagram.linearize
 void bind_codegen(py::module_& m);   // codegen.cpp: generate_code
+void bind_loop_program(py::module_& m);  // loop_program.cpp: loop_program, LoopProgram (the interpreter)
 void bind_sim(py::module_& m);       // sim.cpp: run_scenario, ScenarioRun
+void bind_model(py::module_& m);     // model.cpp: load_robot, RobotModel (the robot's rigid-body model)
 
 }  // namespace dmbd::python

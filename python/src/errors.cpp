@@ -2,6 +2,7 @@
 // kind, under InputError, itself a ValueError. The message is the library's own text
 // (file:line:column: ... for a diagram, a scenario or a model file), unchanged.
 #include "bindings.hpp"
+#include "py_controller.hpp"
 
 #include <exception>
 
@@ -18,7 +19,7 @@ namespace {
 // The Python classes, made once when the module is imported and kept for the life of
 // the interpreter (never released: a translator may run until the very end).
 struct Classes {
-  py::handle input, output, expression, diagram, model, divergence;
+  py::handle input, output, expression, diagram, model, divergence, controller;
 };
 Classes classes;
 
@@ -55,6 +56,12 @@ void translate(std::exception_ptr p) {
     raise(classes.model, e);
   } catch (const sim::DivergenceError& e) {
     raise(classes.divergence, e);
+  } catch (const PythonControllerError& e) {
+    py::dict a;
+    a["controller"] = e.controller();
+    a["time_s"] = e.time_s();
+    a["traceback"] = e.traceback();
+    raise(classes.controller, e, a);
   } catch (const OutputError& e) {
     raise(classes.output, e);
   } catch (const InputError& e) {
@@ -79,6 +86,10 @@ void bind_errors(py::module_& m) {
                              "A mistake in a model file (URDF, actuator table) or a plant that diverged.");
   classes.divergence = make_class(m, "DivergenceError", classes.input,
                                   "A simulation that diverged; the message names the time and the state.");
+  classes.controller = make_class(m, "ControllerError", classes.input,
+                                  "A Python controller's step() or reset() raised (run_scenario(controllers=...)): the message\n"
+                                  "ends with the traceback's last line; `controller` names it, `time_s` is the tick's time,\n"
+                                  "`traceback` the whole formatted traceback.");
   py::register_exception_translator(&translate);
 }
 

@@ -11,5 +11,7 @@ PYBIND11_MODULE(_dmbd, m) {
   dmbd::python::bind_analysis(m);
   dmbd::python::bind_diagrams(m);
   dmbd::python::bind_codegen(m);
+  dmbd::python::bind_loop_program(m);
   dmbd::python::bind_sim(m);
+  dmbd::python::bind_model(m);
 }

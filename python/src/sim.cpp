@@ -4,9 +4,11 @@
 // removed afterwards; no report is drawn.
 #include "bindings.hpp"
 #include "convert.hpp"
+#include "py_controller.hpp"
 
 #include <stdlib.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
@@ -50,7 +52,27 @@ std::string temporary_folder() {
   return pattern;
 }
 
-ScenarioResult run(const py::object& path, const py::object& duration_s, const py::object& out_dir) {
+// Each Python controller of `controllers` ({name: obj}) in every variant of s, in place
+// of the scenario's controller or bus controller of that name (if any).
+void add_python_controllers(scenario::Scenario& s, const py::object& controllers) {
+  if (!py::isinstance<py::dict>(controllers))
+    throw py::type_error("controllers: expected a dict {name: controller object}, got " + py::repr(controllers).cast<std::string>());
+  for (const auto& [key, obj] : controllers.cast<py::dict>()) {
+    if (!py::isinstance<py::str>(key) || key.cast<std::string>().empty())
+      throw InputError("run_scenario: controllers: expected names (non-empty str) as keys, got " + py::repr(key).cast<std::string>());
+    const std::string name = key.cast<std::string>();
+    const auto options = python_controller_options(name, py::reinterpret_borrow<py::object>(obj));
+    for (auto& v : s.variants) {
+      auto& c = v.controllers;
+      c.erase(std::remove_if(c.begin(), c.end(), [&](const scenario::ControllerSetup& x) { return x.name == name; }), c.end());
+      auto& b = v.bus_controllers;
+      b.erase(std::remove_if(b.begin(), b.end(), [&](const auto& x) { return x->name == name; }), b.end());
+      v.bus_controllers.push_back(options);
+    }
+  }
+}
+
+ScenarioResult run(const py::object& path, const py::object& duration_s, const py::object& out_dir, const py::object& controllers) {
   const std::string file = to_path(path);
   scenario::ScenarioRunOptions o;
   if (!duration_s.is_none()) {
@@ -60,10 +82,14 @@ ScenarioResult run(const py::object& path, const py::object& duration_s, const p
   }
   ScenarioResult r;
   if (!out_dir.is_none()) r.out_dir = to_path(out_dir);
+  scenario::Scenario s = scenario::load_scenario(file);
+  if (!controllers.is_none()) add_python_controllers(s, controllers);
   const std::string dir = r.out_dir ? *r.out_dir : temporary_folder();
   try {
-    py::gil_scoped_release release;  // minutes of simulation: other Python threads run meanwhile
-    r.run = scenario::run_scenario(scenario::load_scenario(file), dir, o);
+    // Minutes of simulation: other Python threads run meanwhile (a Python controller
+    // takes the GIL for each of its ticks).
+    py::gil_scoped_release release;
+    r.run = scenario::run_scenario(s, dir, o);
   } catch (...) {
     if (!r.out_dir) {
       std::error_code ec;
@@ -82,6 +108,7 @@ ScenarioResult run(const py::object& path, const py::object& duration_s, const p
 }  // namespace
 
 void bind_sim(py::module_& m) {
+  register_python_controller_type();
   py::class_<ScenarioResult>(m, "ScenarioRun", R"doc(
 A scenario's run: every variant's log and the experiment's metrics. Made by run_scenario().)doc")
       .def_property_readonly("name", [](const ScenarioResult& r) { return r.run.scenario.name; })
@@ -138,10 +165,16 @@ is the time (s). variant may be omitted when the scenario has one.)doc")
         return "<dmbd.ScenarioRun '" + r.run.scenario.name + "': " + std::to_string(r.run.runs.size()) + " variants>";
       });
 
-  m.def("run_scenario", &run, "path"_a, "duration_s"_a = py::none(), "out_dir"_a = py::none(), R"doc(
+  m.def("run_scenario", &run, "path"_a, "duration_s"_a = py::none(), "out_dir"_a = py::none(), "controllers"_a = py::none(), R"doc(
 Run every variant of a scenario file (docs/scenario-format.md), as `dmbd simulate` does
 without its report: duration_s overrides every variant's duration; out_dir receives
 log.csv and metrics.json (created if missing; default: a temporary folder, removed).
+controllers: {name: obj}, controllers written in Python on the bus of every variant, each
+in place of the scenario's controller of that name if it has one: obj.step(t, inputs) ->
+outputs (1-D NumPy array in, array-like out), obj.rate_hz, obj.delay_s (default 0),
+obj.inputs (bus signals), obj.outputs (bus signals, or {signal: unit}), and optionally
+obj.reset(), called before each variant runs. An exception in step() stops the run:
+ControllerError with the traceback's last line (docs/python.md).
 Returns a ScenarioRun. InputError (file:line:column: ...) for a mistake in the scenario,
 DivergenceError or ModelError for a run that diverges.)doc");
 }

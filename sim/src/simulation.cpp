@@ -60,6 +60,8 @@ struct Simulation::Impl {
   // Per joint and per actuator signal indices.
   int nj = 0, na = 0;
   std::vector<int> sig_q, sig_qd, sig_torque;
+  int plant_signals = 0;                      // signals [0, plant_signals) are the plant's
+  std::map<std::string, std::string> driver;  // bus signal -> the controller that drives it
   int sig_base = -1;     // floating base: x, y, z, roll, pitch, yaw, tilt from here on
   int sig_contact = -1;  // contact sphere k's force: fx, fy, fz at sig_contact + 3 k
   struct ActuatorIo {
@@ -158,6 +160,7 @@ struct Simulation::Impl {
         io.housing_off = add(J + (spec.cooling == Cooling::Both ? ".T_housing_uncooled" : ".T_housing"), "degC");
       }
     }
+    plant_signals = static_cast<int>(names.size());
     // A reference either defines a new bus signal or drives a plant command directly
     // (e.g. a current chirp on "l_knee.current" for system identification).
     for (const auto& r : spec.references) {
@@ -209,7 +212,26 @@ struct Simulation::Impl {
       throw InputError(at(c.where) + fmt::format("controller '{}': {} outputs bound for {} controller outputs", c.name, c.outputs.size(), p.num_outputs()));
     if (static_cast<int>(c.inputs.size()) != p.num_inputs())
       throw InputError(at(c.where) + fmt::format("controller '{}': {} inputs bound for {} controller inputs", c.name, c.inputs.size(), p.num_inputs()));
-    for (std::size_t k = 0; k < c.outputs.size(); ++k) add(output_signal(c, k), p.output_unit(static_cast<int>(k)));
+    for (std::size_t k = 0; k < c.outputs.size(); ++k) {
+      const std::string signal = output_signal(c, k);
+      check_driver(c, signal);
+      add(signal, p.output_unit(static_cast<int>(k)));
+    }
+  }
+  // A controller output drives a plant command (J.current, J.torque) or a signal of its
+  // own: never one of the plant's other signals (its sensors, its state: the sensor's
+  // value would be overwritten in silence), never one another controller drives.
+  void check_driver(const ControllerSpec& c, const std::string& signal) {
+    const int existing = find(signal);
+    if (existing >= 0 && existing < plant_signals && !is_command(existing))
+      throw InputError(at(c.where) + "controller '" + c.name + "': output bound to '" + signal +
+                       "', a signal the plant provides (a sensor or its state): expected a command (J.current, J.torque) or a new signal");
+    const auto [it, first] = driver.emplace(signal, c.name);
+    if (!first) throw InputError(at(c.where) + "controllers '" + it->second + "' and '" + c.name + "' both drive '" + signal + "'");
+  }
+  bool is_command(int signal) const {
+    if (std::find(sig_torque.begin(), sig_torque.end(), signal) != sig_torque.end()) return true;
+    return std::any_of(acts.begin(), acts.end(), [&](const ActuatorIo& io) { return io.current == signal; });
   }
   // The controller's ports on the bus, its period and delay on the event grid.
   Ctrl bind(const ControllerSpec& c) {

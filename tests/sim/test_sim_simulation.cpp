@@ -445,6 +445,14 @@ TEST(SimSetup, BadSpecificationsAreInputErrors) {
   spec.controllers = {controller("c", p1k, 0, {"r"}, {"l_knee.current"})};
   spec.references = {{"r", Source{}}, {"l_knee.current", Source{}}};
   expect_error(spec, "both drive 'l_knee.current'");
+  spec.references.clear();
+  // A controller output never overwrites a sensor in silence, nor another controller's.
+  spec.controllers = {controller("c", p1k, 0, {"l_knee.q"}, {"l_knee.q_enc"})};
+  expect_error(spec, "controller 'c': output bound to 'l_knee.q_enc', a signal the plant provides");
+  spec.controllers = {controller("c", p1k, 0, {"l_knee.q"}, {"l_knee.current"}), controller("d", p1k, 0, {"l_knee.q"}, {"l_knee.current"})};
+  expect_error(spec, "controllers 'c' and 'd' both drive 'l_knee.current'");
+  spec.controllers = {controller("c", p1k, 0, {"l_knee.q"}, {"x"}), controller("d", p1k, 0, {"x"}, {"x"})};
+  expect_error(spec, "controllers 'c' and 'd' both drive 'x'");
   spec.controllers.clear();
   spec.references = {{"l_knee.q", Source{}}};
   expect_error(spec, "already a bus signal");
