@@ -9,6 +9,8 @@ namespace dmbd::python {
 void bind_errors(py::module_& m);    // errors.cpp: InputError and its kinds as Python exceptions
 void bind_lti(py::module_& m);       // lti.cpp: TransferFunction, StateSpace, interconnection, c2d/d2c
 void bind_analysis(py::module_& m);  // analysis.cpp: poles, zeros, Bode, step, margins
+// control_verbs.cpp (+ control_results.cpp): python-control's verbs (margin, lqr, place, forced_response, ...)
+void bind_control_verbs(py::module_& m);
 void bind_diagrams(py::module_& m);  // diagrams.cpp: load_diagram, Diagram.linearize
 void bind_codegen(py::module_& m);   // codegen.cpp: generate_code
 void bind_loop_program(py::module_& m);  // loop_program.cpp: loop_program, LoopProgram (the interpreter)

@@ -108,7 +108,11 @@ py::object feedback(const py::object& forward, const py::object& back, int sign)
   if (sign != 1 && sign != -1) throw InputError("feedback: sign must be -1 (negative feedback) or +1");
   const double ts = std::max(sample_time(forward), sample_time(back));
   if (is_tf_like(forward) && is_tf_like(back)) return py::cast(b::feedback(as_tf(forward, ts), as_tf(back, ts), sign));
-  return py::cast(b::feedback(as_ss(forward, "feedback", ts), as_ss(back, "feedback", ts), sign));
+  const StateSpace f = as_ss(forward, "feedback", ts);
+  // A number around a square MIMO model is that gain on every channel (python-control's sys2=1).
+  if (is_number(back) && f.num_inputs() == f.num_outputs() && f.num_inputs() > 1)
+    return py::cast(b::feedback(f, StateSpace::gain(back.cast<double>() * b::Matrix::Identity(f.num_inputs(), f.num_inputs()), ts), sign));
+  return py::cast(b::feedback(f, as_ss(back, "feedback", ts), sign));
 }
 
 py::object c2d(const py::object& sys, double ts, const std::string& method, double prewarp) {

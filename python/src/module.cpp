@@ -9,6 +9,7 @@ PYBIND11_MODULE(_dmbd, m) {
   dmbd::python::bind_errors(m);
   dmbd::python::bind_lti(m);
   dmbd::python::bind_analysis(m);
+  dmbd::python::bind_control_verbs(m);
   dmbd::python::bind_diagrams(m);
   dmbd::python::bind_codegen(m);
   dmbd::python::bind_loop_program(m);

@@ -49,6 +49,51 @@ class Diagram(unittest.TestCase):
             dmbd.generate_code(DATA / "bad_diagram.yaml", rate_hz=1000)
 
 
+# The command line of the same build (build/apps/dmbd next to build/python/dmbd).
+DMBD_CLI = pathlib.Path(dmbd.__file__).resolve().parents[2] / "apps" / "dmbd"
+
+
+class COutput(unittest.TestCase):
+    """generate_code(..., language="c") returns (and writes) the files of `dmbd codegen
+    --language c`, byte for byte: the same diagram file given to both as the same text."""
+
+    CASES = [  # (diagram, rate, extra generate_code keywords, the same as CLI options)
+        ("dob_controller.yaml", 2000, {}, []),
+        ("force_dob.yaml", 1000, {"scalar": "float", "name": "fdob"}, ["--scalar", "float", "--name", "fdob"]),
+        ("dob_controller.yaml", 2000, {"scalar": "fixed", "word_bits": 16}, ["--scalar", "fixed", "--word", "16"]),
+        ("joint_pd_torque.yaml", 5000, {"method": "zoh", "params": {"Kp": 300}},
+         ["--method", "zoh", "--param", "Kp=300"]),
+    ]
+
+    def cli_files(self, diagram, rate, options, out):
+        subprocess.run([str(DMBD_CLI), "codegen", diagram, "--rate", str(rate), "--language", "c", "--out", str(out),
+                        *options], check=True, capture_output=True)
+        return {p.name: p.read_bytes() for p in pathlib.Path(out).iterdir() if p.suffix in (".h", ".c")}
+
+    def test_same_bytes_as_the_command_line(self):
+        if not DMBD_CLI.exists():
+            self.skipTest(f"no command line at {DMBD_CLI}")
+        for diagram, rate, kw, options in self.CASES:
+            path = str(EXAMPLES / "diagrams" / diagram)
+            with self.subTest(diagram=diagram, options=options), tempfile.TemporaryDirectory() as cli_dir, \
+                    tempfile.TemporaryDirectory() as py_dir:
+                want = self.cli_files(path, rate, options, cli_dir)
+                self.assertEqual(len(want), 2, want.keys())
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    got = dmbd.generate_code(path, rate_hz=rate, language="c", out_dir=py_dir, **kw)
+                self.assertEqual({k: v.encode() for k, v in got.items()}, want)
+                written = {p.name: p.read_bytes() for p in pathlib.Path(py_dir).iterdir()}
+                self.assertEqual(written, want)
+
+    def test_c_mistakes(self):
+        with self.assertRaisesRegex(dmbd.InputError, "language 'fortran': expected cpp or c"):
+            dmbd.generate_code(DATA / "pi_loop.yaml", rate_hz=1000, language="fortran")
+        with self.assertRaisesRegex(dmbd.InputError, "out_dir .*not a directory"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # pi_loop's algebraic-loop warning
+            dmbd.generate_code(DATA / "pi_loop.yaml", rate_hz=1000, language="c", out_dir=DATA / "missing")
+
+
 class TransferFunction(unittest.TestCase):
     G = "wc^2/(s^2 + sqrt(2)*wc*s + wc^2)"
 
