@@ -1,5 +1,7 @@
 #include "dmbd/blocks/stability_margin.hpp"
 
+#include "golden_section.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -26,27 +28,7 @@ std::vector<double> sample_frequencies(const std::vector<Complex>& features, dou
 }
 
 // The minimum of a locally unimodal f on [a, b] by golden-section search.
-double golden_min(const std::function<double(double)>& f, double a, double b) {
-  const double r = (std::sqrt(5.0) - 1.0) / 2.0;
-  double c = b - r * (b - a), d = a + r * (b - a);
-  double fc = f(c), fd = f(d);
-  for (int it = 0; it < 300 && b - a > 1e-12 * std::abs(b); ++it) {
-    if (fc <= fd) {
-      b = d;
-      d = c;
-      fd = fc;
-      c = b - r * (b - a);
-      fc = f(c);
-    } else {
-      a = c;
-      c = d;
-      fc = fd;
-      d = a + r * (b - a);
-      fd = f(d);
-    }
-  }
-  return fc <= fd ? c : d;
-}
+double golden_min(const std::function<double(double)>& f, double a, double b) { return golden_section(f, a, b, 1e-12, 300).best(); }
 
 }  // namespace
 

@@ -7,6 +7,7 @@
 
 #include "dmbd/blocks/error.hpp"
 #include "dmbd/blocks/schur_exponential.hpp"
+#include "golden_section.hpp"
 
 namespace dmbd::blocks {
 
@@ -94,27 +95,10 @@ double bisect(const std::function<double(double)>& f, double a, double b) {
   return 0.5 * (a + b);
 }
 
-// Maximum of a locally unimodal f on [a, b] (golden section).
+// Maximum of a locally unimodal f on [a, b] (golden section), the final bracket's middle.
 double golden_max(const std::function<double(double)>& f, double a, double b) {
-  const double r = (std::sqrt(5.0) - 1.0) / 2.0;
-  double c = b - r * (b - a), d = a + r * (b - a);
-  double fc = f(c), fd = f(d);
-  for (int it = 0; it < 200 && b - a > 1e-15 * std::abs(b); ++it) {
-    if (fc > fd) {
-      b = d;
-      d = c;
-      fd = fc;
-      c = b - r * (b - a);
-      fc = f(c);
-    } else {
-      a = c;
-      c = d;
-      fc = fd;
-      d = a + r * (b - a);
-      fd = f(d);
-    }
-  }
-  return 0.5 * (a + b);
+  const GoldenBracket g = golden_section([&](double x) { return -f(x); }, a, b, 1e-15, 200);
+  return 0.5 * (g.a + g.b);
 }
 
 }  // namespace
