@@ -1,5 +1,6 @@
 #include "sweep_plan.hpp"
 
+#include <cctype>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -52,21 +53,36 @@ std::string jobs_text(const SweepPlan& p, const std::string& dmbd, const std::st
   return text;
 }
 
+// The scenario's name as one word of a Slurm job name: sbatch splits an #SBATCH line at
+// blanks (a name with a space is refused: "Invalid directive found in batch script"),
+// and a line break would end the comment it is also written in.
+std::string slurm_word(const std::string& name) {
+  std::string w;
+  for (char c : name) w += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' ? c : '_';
+  return w;
+}
+
+// Task K runs line K of jobs.txt in the folder Slurm starts it in: the submission folder,
+// or sbatch --chdir's.
 std::string sbatch_text(const scenario::Scenario& s, std::size_t n) {
-  return fmt::format(R"(#!/bin/bash
-# A Slurm job array: task K runs line K of jobs.txt (one variant of {}).
-# Submit from this folder: sbatch slurm.sbatch; then: dmbd sweep collect .
-#SBATCH --job-name=dmbd-{}
-#SBATCH --array=1-{}
+  return fmt::format(R"SH(#!/bin/bash
+# A Slurm job array: task K runs line K of jobs.txt (one variant of {0}).
+# Submit from this folder: sbatch slurm.sbatch (from elsewhere: sbatch --chdir=THIS_FOLDER
+# THIS_FOLDER/slurm.sbatch); then: dmbd sweep collect THIS_FOLDER
+#SBATCH --job-name=dmbd-{0}
+#SBATCH --array=1-{1}
 #SBATCH --ntasks=1
 #SBATCH --cpus-per-task=1
 #SBATCH --output=slurm-%A_%a.out
 set -euo pipefail
-cd "${{SLURM_SUBMIT_DIR:-.}}"
+if [ ! -f jobs.txt ]; then
+  echo "slurm.sbatch: no jobs.txt in $PWD (submit from the plan's folder, or with --chdir=PLAN)" >&2
+  exit 2
+fi
 job=$(sed -n "${{SLURM_ARRAY_TASK_ID}}p" jobs.txt)
 eval "$job"
-)",
-                     s.name, s.name, n);
+)SH",
+                     slurm_word(s.name), n);
 }
 
 std::string readme_text(const scenario::Scenario& s, const SweepPlan& p, const std::string& dmbd) {
@@ -87,8 +103,9 @@ On several machines that see this folder at the same path (a shared file system)
 Without a shared folder, GNU parallel can copy the scenario there and the parts back
 (not tried in the project's tests, which have no ssh hosts):
   parallel --sshlogin host1,host2 --basefile scenario --workdir ... --return parts/{{#}} :::: jobs.txt
-With Slurm (a job array; the folder on the cluster's shared file system):
-  cd THIS_FOLDER && sbatch slurm.sbatch
+With Slurm (a job array; the folder on the cluster's shared file system; --wait: until all ended):
+  cd THIS_FOLDER && sbatch [--wait] slurm.sbatch
+  sbatch --chdir=THIS_FOLDER THIS_FOLDER/slurm.sbatch      (from another folder)
 Then merge the parts into one run directory with its report (DIR/run by default):
   dmbd sweep collect THIS_FOLDER [--out OUT] [--no-frames]
 A job that failed or did not run is named by collect; run its line of jobs.txt again.

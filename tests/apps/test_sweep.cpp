@@ -5,18 +5,16 @@
 // the plots byte for byte. And the errors: a failing worker, a job that did not finish,
 // an unknown variant, a plan into a folder in use.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
-#include <vector>
 
 #include "cli_support.hpp"
+#include "sweep_support.hpp"
 
 namespace {
 
@@ -24,64 +22,13 @@ namespace fs = std::filesystem;
 using dmbd::cli_testing::quote;
 using dmbd::cli_testing::run_dmbd;
 using dmbd::cli_testing::slurp;
-
-const std::string kScenario = std::string(DMBD_SOURCE_DIR) + "/tests/apps/data/sweep16.yaml";
-
-// A fresh folder per test, removed afterwards.
-class Scratch {
- public:
-  explicit Scratch(const std::string& name) : dir_(fs::temp_directory_path() / ("dmbd_sweep_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  ~Scratch() { fs::remove_all(dir_); }
-  const fs::path& dir() const { return dir_; }
-
- private:
-  fs::path dir_;
-};
-
-// metrics.json without what depends on the machine's speed: each run's wall_s and
-// real_time_factor (wall-clock measurements, different in every run), and scenario_file
-// (the absolute path of the scenario: a plan runs its own copy), checked separately.
-nlohmann::json comparable_metrics(const fs::path& dir) {
-  nlohmann::json m = nlohmann::json::parse(slurp(dir / "metrics.json"));
-  for (auto& [name, run] : m["runs"].items()) {
-    EXPECT_TRUE(run.contains("wall_s")) << name;
-    run.erase("wall_s");
-    run.erase("real_time_factor");
-  }
-  m.erase("scenario_file");
-  return m;
-}
-
-// The two run directories hold the same results.
-void expect_same_run(const fs::path& a, const fs::path& b) {
-  const std::string log = slurp(a / "log.csv");
-  EXPECT_GT(log.size(), 100000u);
-  EXPECT_TRUE(log == slurp(b / "log.csv")) << a << " and " << b << ": log.csv differ";
-  const nlohmann::json ma = comparable_metrics(a), mb = comparable_metrics(b);
-  EXPECT_EQ(ma["runs"].size(), 16u);
-  EXPECT_EQ(ma["rms_error_N"].size(), 4u) << ma.dump();  // the experiment's metrics: per controller, per load
-  EXPECT_EQ(ma, mb) << a << " and " << b << ": metrics.json differ";
-  for (const char* png : {"plots/force_tracking.png", "plots/force_error.png"})
-    EXPECT_TRUE(slurp(a / png) == slurp(b / png) && !slurp(a / png).empty()) << png;
-}
+using dmbd::sweep_testing::expect_same_run;
+using dmbd::sweep_testing::kScenario;
+using dmbd::sweep_testing::lines_of;
+using dmbd::sweep_testing::Scratch;
+using dmbd::sweep_testing::shell;
 
 bool have_parallel() { return std::system("parallel --version >/dev/null 2>&1") == 0; }
-
-// Runs a shell command in `cwd`; its exit status.
-int shell(const std::string& command, const fs::path& cwd) {
-  const int status = std::system(("cd " + quote(cwd.string()) + " && " + command + " >/dev/null 2>&1").c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);) lines.push_back(l);
-  return lines;
-}
 
 TEST(SimulateJobs, TwoWorkerProcessesWriteWhatOneProcessWrites) {
   Scratch t("jobs");
@@ -148,11 +95,38 @@ TEST(Sweep, TheSlurmScriptRunsTheLineOfItsArrayTask) {
   Scratch t("slurm");
   const fs::path plan = t.dir() / "plan";
   ASSERT_EQ(run_dmbd({"sweep", "plan", kScenario, "--out", plan.string()}, t.dir()).code, 0);
-  // What Slurm does for task 6 of the array (no Slurm here: its two variables set by hand).
-  ASSERT_EQ(shell("SLURM_ARRAY_TASK_ID=6 SLURM_SUBMIT_DIR=" + quote(plan.string()) + " bash plan/slurm.sbatch", t.dir()), 0);
+  // What Slurm does for task 6 of the array, by hand (a real Slurm: test_sweep_slurm.cpp):
+  // the task starts in the submission folder (or sbatch --chdir's) with its index set.
+  ASSERT_EQ(shell("SLURM_ARRAY_TASK_ID=6 bash slurm.sbatch", plan), 0);
   const auto part = nlohmann::json::parse(slurp(plan / "parts" / "6" / "part.json"));
   EXPECT_EQ(part["variant"], "without_dob/30000kg");
   EXPECT_FALSE(fs::exists(plan / "parts" / "5"));
+  // Started elsewhere, it says where it expected to be, and runs nothing.
+  const int code = std::system(("cd " + quote(t.dir().string()) + " && SLURM_ARRAY_TASK_ID=5 bash plan/slurm.sbatch 2>" +
+                                quote((t.dir() / "err").string()))
+                                   .c_str());
+  EXPECT_EQ(WEXITSTATUS(code), 2);
+  EXPECT_EQ(slurp(t.dir() / "err"), "slurm.sbatch: no jobs.txt in " + t.dir().string() +
+                                        " (submit from the plan's folder, or with --chdir=PLAN)\n");
+  EXPECT_FALSE(fs::exists(plan / "parts" / "5"));
+}
+
+// sbatch refuses an #SBATCH line with a blank in its value ("Invalid directive found in
+// batch script", Slurm 22.05), and a line break in the name would end the comment line:
+// the job name keeps letters, digits, '.', '_' and '-' of the scenario's name.
+TEST(Sweep, TheSlurmJobNameIsOneWordWhateverTheScenarioIsCalled) {
+  Scratch t("slurm_name");
+  std::string text = slurp(kScenario);
+  text.replace(text.find("name: sweep16"), 13, "name: \"knee force (2 loads)\\nrm -rf x\"");
+  for (std::string::size_type p; (p = text.find("../../../examples")) != std::string::npos;)
+    text.replace(p, 17, std::string(DMBD_SOURCE_DIR) + "/examples");
+  std::ofstream(t.dir() / "named.yaml") << text;
+  const auto p = run_dmbd({"sweep", "plan", (t.dir() / "named.yaml").string(), "--out", (t.dir() / "plan").string()}, t.dir());
+  ASSERT_EQ(p.code, 0) << p.err;
+  const auto lines = lines_of(slurp(t.dir() / "plan" / "slurm.sbatch"));
+  EXPECT_EQ(lines[1], "# A Slurm job array: task K runs line K of jobs.txt (one variant of knee_force__2_loads__rm_-rf_x).");
+  EXPECT_EQ(lines[4], "#SBATCH --job-name=dmbd-knee_force__2_loads__rm_-rf_x");
+  EXPECT_EQ(lines.size(), 16u);
 }
 
 TEST(Sweep, CollectNamesTheJobsThatDidNotFinishAndWritesNothing) {
