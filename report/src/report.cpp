@@ -1,6 +1,7 @@
-// write_report: plots, frames, video and report.html from a run.
+// write_report: plots, frames, video, the 3-D replay and report.html from a run.
 #include "dmbd/report/report.hpp"
 
+#include <chrono>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -10,6 +11,7 @@
 #include "dmbd/viz/plot.hpp"
 #include "dmbd/viz/report.hpp"
 #include "frames.hpp"
+#include "replay.hpp"
 
 namespace dmbd::report {
 
@@ -96,6 +98,13 @@ ReportResult write_report(const scenario::ScenarioRun& run, const std::string& d
     res.render_fps = f.render_s > 0 ? static_cast<double>(f.frames.size()) / f.render_s : 0.0;
     res.warnings.insert(res.warnings.end(), f.warnings.begin(), f.warnings.end());
   }
+  const auto t0 = std::chrono::steady_clock::now();
+  detail::Replay replay = detail::write_replay(run, dir, options);
+  res.replay_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  res.replay_variants = static_cast<int>(replay.page.variants.size());
+  rep.replay = std::move(replay.page);
+  res.files.insert(res.files.end(), replay.files.begin(), replay.files.end());
+  res.warnings.insert(res.warnings.end(), replay.warnings.begin(), replay.warnings.end());
   for (const auto& w : res.warnings) rep.notes.push_back("Warning: " + w);
   for (const auto& r : run.runs)
     for (const auto& f : r.fixed_point)
@@ -104,7 +113,7 @@ ReportResult write_report(const scenario::ScenarioRun& run, const std::string& d
                                       r.name, f.controller, f.word_bits, f.output, f.bound, f.unit, f.range, f.unit));
   rep.notes.insert(rep.notes.end(), run.experiment.notes.begin(), run.experiment.notes.end());
   rep.notes.push_back(std::string("Files: log.csv (every signal of every variant, with units), metrics.json, plots/") +
-                      (res.frames > 0 ? ", frames/, video.mp4." : "."));
+                      (res.frames > 0 ? ", frames/, video.mp4" : "") + (res.replay_variants > 0 ? ", replay/." : "."));
   res.page = (d / "report.html").string();
   viz::write_report(rep, res.page);
   res.files.push_back("report.html");

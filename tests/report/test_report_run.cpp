@@ -1,8 +1,9 @@
 // Reports drawn from runs (dmbd::report): frames from the logged poses show the robot
 // moving, a fixed base on a table, the operational space controller's desired and
 // measured paths when they were logged; a report redrawn from the run directory (scenario::read_run, `dmbd report`) is the
-// one drawn straight after the simulation, pixel for pixel; the files listed are the
-// files written, nothing else is left behind, stale frames are removed.
+// one drawn straight after the simulation, pixel for pixel (and its 3-D replay's data byte
+// for byte); the files listed are the files written, every file the page refers to is
+// there, nothing else is left behind, stale frames are removed.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -340,11 +342,52 @@ TEST(ReportRedraw, DmbdReportRedrawsTheShippedScenarioPixelForPixel) {
   ASSERT_EQ(run_dmbd("report '" + b + "'"), 0);
   expect_same_images(a, b);
   EXPECT_EQ(read_text(a + "/report.html"), read_text(b + "/report.html"));
+  // The replay's data, byte for byte (the log read back is the log written).
+  int replayed = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(a) / "replay")) {
+    EXPECT_EQ(read_text(e.path().string()), read_text((fs::path(b) / "replay" / e.path().filename()).string())) << e.path().filename();
+    ++replayed;
+  }
+  EXPECT_EQ(replayed, 3 + 1 + 3) << "three.js, its controls and licence, one scene, three variants";
   EXPECT_TRUE(fs::exists(b + "/video.mp4"));
 }
 
-// The report's files are what it lists (no temporary left), and a second report into the
-// same folder with fewer frames leaves none of the first's behind.
+// Every file report.html refers to (src, href, poster, and the replay's data-track and
+// data-scene), percent-decoded and relative to the directory; and the references found.
+std::vector<std::string> page_references(const std::string& dir) {
+  const std::string html = read_text(dir + "/report.html");
+  std::vector<std::string> refs;
+  const std::regex attr(R"re(\b(?:src|href|poster|data-track|data-scene)="([^"]*)")re");
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), attr); it != std::sregex_iterator(); ++it) {
+    const std::string url = (*it)[1];
+    std::string path;
+    for (std::size_t i = 0; i < url.size(); ++i)
+      if (url[i] == '%' && i + 2 < url.size()) {
+        path += static_cast<char>(std::stoi(url.substr(i + 1, 2), nullptr, 16));
+        i += 2;
+      } else {
+        path += url[i];
+      }
+    refs.push_back(path);
+  }
+  return refs;
+}
+
+// Every reference of the page is a file in the directory, and every file of replay/ is
+// referred to by the page (the scripts, the data, the licence).
+void expect_links_resolve(const std::string& dir) {
+  const std::vector<std::string> refs = page_references(dir);
+  for (const auto& r : refs) EXPECT_TRUE(fs::is_regular_file(fs::path(dir) / r)) << "report.html refers to a missing file: " << r;
+  ASSERT_TRUE(fs::is_directory(fs::path(dir) / "replay"));
+  for (const auto& e : fs::directory_iterator(fs::path(dir) / "replay")) {
+    const std::string rel = "replay/" + e.path().filename().string();
+    EXPECT_NE(std::find(refs.begin(), refs.end(), rel), refs.end()) << rel << " is not referred to by report.html";
+  }
+}
+
+// The report's files are what it lists (no temporary left), every file the page refers to
+// is there, and a second report into the same folder with fewer frames leaves none of the
+// first's behind; the replay is written with or without frames.
 TEST(ReportFiles, ListedFilesOnlyAndNoStaleFrames) {
   TempDir dir;
   const std::string path = dir.file("s.yaml");
@@ -363,6 +406,8 @@ TEST(ReportFiles, ListedFilesOnlyAndNoStaleFrames) {
     const std::string rel = fs::relative(e.path(), out).string();
     EXPECT_NE(std::find(listed.begin(), listed.end(), rel), listed.end()) << "unlisted file " << rel;
   }
+  expect_links_resolve(out);
+  EXPECT_EQ(first.replay_variants, 1);
   dmbd::report::ReportOptions none;
   none.frames = false;
   const auto second = dmbd::report::write_report(run, out, none);
@@ -370,6 +415,8 @@ TEST(ReportFiles, ListedFilesOnlyAndNoStaleFrames) {
   EXPECT_FALSE(fs::exists(out + "/frames"));
   EXPECT_FALSE(fs::exists(out + "/video.mp4"));
   EXPECT_EQ(read_text(out + "/report.html").find("frames/"), std::string::npos);
+  EXPECT_EQ(second.replay_variants, 1);
+  expect_links_resolve(out);
 }
 
 }  // namespace

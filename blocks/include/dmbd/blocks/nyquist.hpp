@@ -15,6 +15,7 @@ enum class Indent { Right, Left, None };
 // "right", "left", "none"; InputError otherwise.
 Indent parse_indent(const std::string& name);
 
+// A loop's response along the Nyquist contour (nyquist()) and the encirclements of -1.
 struct Nyquist {
   std::vector<Complex> contour;   // the points: s (continuous), z = e^{s ts} (discrete)
   std::vector<Complex> response;  // L at each point

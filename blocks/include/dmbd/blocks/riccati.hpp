@@ -59,6 +59,7 @@ LinearQuadratic dlqr(const Matrix& a, const Matrix& b, const Matrix& q, const Ma
 // tests judge a solution by, independently of how it was found.
 double care_residual(const Matrix& a, const Matrix& b, const Matrix& q, const Matrix& r, const Matrix& n,
                      const Matrix& x);
+// The discrete equation's residual at X, relative in the same way.
 double dare_residual(const Matrix& a, const Matrix& b, const Matrix& q, const Matrix& r, const Matrix& n,
                      const Matrix& x);
 

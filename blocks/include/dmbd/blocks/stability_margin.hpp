@@ -9,6 +9,7 @@
 
 namespace dmbd::blocks {
 
+// The stability margin of a loop: the distance of its Nyquist curve from -1, and where.
 struct StabilityMargin {
   double margin = 0.0;   // the smallest |1 + L| over 0 <= w (up to pi/ts when discrete)
   double w_rad_s = 0.0;  // where; +inf when the infimum is L's limit at w -> infinity

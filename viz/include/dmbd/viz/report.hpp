@@ -11,10 +11,11 @@
 //   report.video = "video.mp4";
 //   dmbd::viz::write_report(report, "out/report.html");
 //
-// One HTML page with inline CSS, no JavaScript and no external URL: plots, frames
-// and the video are linked by paths relative to the page's directory (the caller
-// writes those files there). All text is HTML-escaped. Every section with nothing
-// in it is left out.
+// One HTML page with inline CSS and no external URL: plots, frames and the video are
+// linked by paths relative to the page's directory (the caller writes those files
+// there). All text is HTML-escaped. Every section with nothing in it is left out. The
+// page has no JavaScript unless it has a 3-D replay (ReportReplay: the player is inline,
+// three.js and the data are scripts beside the page, replay.hpp).
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -23,6 +24,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "dmbd/viz/renderer.hpp"  // Camera
 
 namespace dmbd::viz {
 
@@ -34,6 +37,28 @@ struct ReportFigure {
 struct ReportFrame {
   std::string path;              // relative, e.g. "frames/frame_0042.png"
   std::optional<double> time_s;  // shown as "t = 1.25 s" when given
+};
+
+// A 3-D replay of the run: WebGL (three.js) with play, pause, a time slider, a variant
+// selector and an orbiting camera that starts where `camera` is (position, look-at, field
+// of view; the view keeps its aspect). The page also takes URL parameters: t=SECONDS,
+// variant=NAME, speed=FACTOR, ground=0, overlays=0, and view=replay, which shows the view
+// alone at the camera's size (for a picture of one moment). Its state is the replay
+// section's data-state attribute: "loading", "ready" (with data-time, the time shown) or
+// "error" (the reason shown on the page and given to console.error).
+struct ReportReplayVariant {
+  std::string name;
+  std::string track, scene;  // relative paths of its scripts (replay_track_script, replay_scene_script)
+};
+struct ReportReplay {
+  std::vector<ReportReplayVariant> variants;  // empty: no replay section
+  std::size_t initial = 0;                    // the variant shown first
+  std::vector<std::string> scripts;           // relative paths: three.min.js, then OrbitControls.js
+  std::string licence;                        // relative path of three.js's licence, linked under the view; may be empty
+  Camera camera;
+  std::string title;    // the view's first line (the frames' title)
+  std::string caption;  // under the view; may be empty
+  double force_scale_m_per_N = 0.001;  // arrow length per newton, as the frames' Overlays
 };
 
 struct Report {
@@ -54,6 +79,7 @@ struct Report {
   std::string video_caption;  // may be empty
   std::string video_poster;   // relative path of an image shown before playing; may be empty
   std::vector<std::string> notes;  // free-text paragraphs; line breaks are kept
+  ReportReplay replay;             // no variants: no replay section
 };
 
 // The page as a string. Throws std::invalid_argument naming the field when a path
