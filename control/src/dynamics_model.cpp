@@ -12,6 +12,8 @@ namespace {
 
 double or_infinite(double v) { return v > 0 ? v : std::numeric_limits<double>::infinity(); }
 
+}  // namespace
+
 wholebody::Layout layout_of(const model::RobotDescription& robot, const model::RobotDynamics& dyn) {
   wholebody::Layout l;
   l.nq = dyn.nq();
@@ -24,7 +26,7 @@ wholebody::Layout layout_of(const model::RobotDescription& robot, const model::R
     joint.name = names[static_cast<size_t>(j)];
     joint.q_index = dyn.joint_q_index(j);
     joint.v_index = dyn.joint_v_index(j);
-    if (urdf.upper > urdf.lower) {
+    if (urdf.has_limits && urdf.upper > urdf.lower && urdf.type != model::JointType::Continuous) {
       joint.limits.lower_rad = urdf.lower;
       joint.limits.upper_rad = urdf.upper;
     }
@@ -34,8 +36,6 @@ wholebody::Layout layout_of(const model::RobotDescription& robot, const model::R
   }
   return l;
 }
-
-}  // namespace
 
 DynamicsModel::DynamicsModel(const model::RobotDescription& robot, const model::DynamicsOptions& options)
     : robot_(std::make_unique<model::RobotDescription>(robot)),

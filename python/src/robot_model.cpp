@@ -10,6 +10,7 @@
 
 #include "dmbd/base/error.hpp"
 #include "dmbd/base/strings.hpp"
+#include "dmbd/control/dynamics_model.hpp"
 #include "dmbd/model/equations_of_motion.hpp"
 #include "dmbd/model/error.hpp"
 #include "dmbd/model/robot_folder.hpp"
@@ -19,8 +20,6 @@ namespace dmbd::python {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-double or_infinite(double v) { return v > 0 ? v : kInf; }
 
 bool names_a_file(const std::string& s) {
   std::error_code ec;
@@ -36,29 +35,6 @@ void check_joint_kinds(const model::RobotDescription& robot) {
       throw model::ModelError(robot.source + ": joint '" + j.name + "' is " + model::joint_type_name(j.type) +
                               ": the robot model takes revolute, continuous, prismatic and fixed joints (choose a "
                               "floating root with base='floating')");
-}
-
-wholebody::Layout layout_of(const model::RobotDescription& robot, const model::RobotDynamics& dyn) {
-  wholebody::Layout l;
-  l.nq = dyn.nq();
-  l.nv = dyn.nv();
-  l.base_dofs = dyn.base_dofs();
-  for (int j = 0; j < static_cast<int>(dyn.joint_names().size()); ++j) {
-    const std::string& name = dyn.joint_names()[static_cast<std::size_t>(j)];
-    const model::Joint& urdf = robot.joints[static_cast<std::size_t>(robot.joint_index(name))];
-    wholebody::Joint joint;
-    joint.name = name;
-    joint.q_index = dyn.joint_q_index(j);
-    joint.v_index = dyn.joint_v_index(j);
-    if (urdf.has_limits && urdf.upper > urdf.lower && urdf.type != model::JointType::Continuous) {
-      joint.limits.lower_rad = urdf.lower;
-      joint.limits.upper_rad = urdf.upper;
-    }
-    joint.limits.effort_Nm = or_infinite(urdf.effort);
-    joint.limits.velocity_rad_s = or_infinite(urdf.velocity);
-    l.joints.push_back(joint);
-  }
-  return l;
 }
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& a) {
@@ -93,7 +69,7 @@ RobotModel::RobotModel(model::RobotDescription robot, model::BaseMode base, doub
   options_.base = base;
   options_.gravity_m_s2 = gravity_m_s2;
   dynamics_ = std::make_unique<model::RobotDynamics>(*robot_, options_);
-  layout_ = layout_of(*robot_, *dynamics_);
+  layout_ = control::layout_of(*robot_, *dynamics_);
   joint_q_.assign(robot_->joints.size(), -1);
   joint_v_.assign(robot_->joints.size(), -1);
   for (const wholebody::Joint& j : layout_.joints) {

@@ -16,6 +16,12 @@
 
 namespace dmbd::control {
 
+// The layout wholebody's controllers (and the Python robot model) see of a robot: its
+// coordinates' sizes and, per moving joint of dyn, its indices and the URDF's limits
+// (position limits only where the URDF gives them, never for a continuous joint; a
+// missing effort or velocity limit is infinite).
+wholebody::Layout layout_of(const model::RobotDescription& robot, const model::RobotDynamics& dyn);
+
 // wholebody::RobotModel over model::RobotDynamics: the layout, frames and per-state terms
 // (mass matrix, b + g, frame and CoM Jacobians) a whole-body controller reads, in the
 // coordinates of model::RobotDynamics (wholebody/robot_model.hpp).
