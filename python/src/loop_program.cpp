@@ -9,6 +9,8 @@
 
 #include <memory>
 
+#include <fmt/format.h>
+
 #include "dmbd/base/error.hpp"
 #include "dmbd/codegen/interpreter.hpp"
 
@@ -103,7 +105,7 @@ generated code computes, bit for bit (double), or in float. Made by loop_program
       .def_property_readonly("rate_hz", &PyLoopProgram::rate_hz)
       .def_property_readonly("name", &PyLoopProgram::name)
       .def_property_readonly("clamp_events", &PyLoopProgram::clamp_events, "Saturations engaged since the start or reset().")
-      .def("__repr__", [](const PyLoopProgram& p) { return "<dmbd.LoopProgram '" + p.name() + "' at " + std::to_string(p.rate_hz()) + " Hz>"; });
+      .def("__repr__", [](const PyLoopProgram& p) { return fmt::format("<dmbd.LoopProgram '{}' at {:g} Hz>", p.name(), p.rate_hz()); });
   m.def("loop_program", &make, "source"_a, "rate_hz"_a, "method"_a = py::none(), "block_methods"_a = py::none(),
         "scalar"_a = "double", "params"_a = py::none(), R"doc(
 The loop program of a diagram file (with params) or a TransferFunction, lowered at rate_hz
